@@ -1,0 +1,198 @@
+"""Running an experiment: one seed → every key, the results folder, resume checks, the command line.
+
+An experiment module declares a frozen config dataclass with ``smoke()``, ``cpu()`` and ``paper()``
+constructors and a function ``run(config, ctx) -> rows`` that trains and evaluates, where ``rows`` maps a
+table row (a method) to its cells (metric name → a number, or a list of numbers over evaluation
+repetitions, shown as mean ± 95% CI). Its ``main`` is one line::
+
+    def main(argv=None):
+        return experiment.main("actor_uestc", Config, run, argv)
+
+Results land in ``<out>/<experiment>/<profile>/seed-<n>/``: ``config.json`` (the whole run record),
+``metrics.jsonl`` (training log), ``metrics.json``, ``table.md`` and ``checkpoints/``. With several seeds,
+``<out>/<experiment>/<profile>/summary.json`` and ``table.md`` hold mean ± 95% CI over the seeds.
+Re-running the same command resumes: finished seeds are read back, an interrupted one restarts from its
+last checkpoint, and a run folder made with a different config is refused.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+import zlib
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import jax
+import numpy as np
+
+from jaxmotion import config as cfglib
+from jaxmotion.evaluation.stats import Summary, summarize
+from jaxmotion.evaluation.table import format_table
+
+Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
+
+
+class RunConflictError(RuntimeError):
+    """The results folder holds a run made with another config."""
+
+
+@dataclasses.dataclass(frozen=True)
+class RunContext:
+    """Where one seed of one experiment runs, and the source of all of its randomness."""
+
+    experiment: str
+    profile: str
+    seed: int
+    workdir: Path
+    data_root: str | None = None
+
+    def key(self, stream: str) -> jax.Array:
+        """An independent PRNG key per named stream (``"init"``, ``"train"``, ``"eval"``, ...).
+
+        Derived from the seed and a stable hash of the name, so adding a stream never shifts another.
+        """
+        return jax.random.fold_in(jax.random.key(self.seed), zlib.crc32(stream.encode()))
+
+    def record(self, config: Any) -> dict[str, Any]:
+        """Everything that determines this run's results, as written to ``config.json``."""
+        return {
+            "experiment": self.experiment,
+            "profile": self.profile,
+            "seed": self.seed,
+            "data_root": self.data_root,
+            "config_class": f"{type(config).__module__}.{type(config).__qualname__}",
+            "config": cfglib.to_dict(config),
+        }
+
+
+RunFn = Callable[[Any, RunContext], Rows]
+
+
+def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
+             data_root: str | None = None) -> dict[str, Any]:
+    """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
+    ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root)
+    ctx.workdir.mkdir(parents=True, exist_ok=True)
+    record = ctx.record(config)
+    config_path, metrics_path = ctx.workdir / "config.json", ctx.workdir / "metrics.json"
+    if config_path.exists():
+        previous = json.loads(config_path.read_text())
+        changes = cfglib.diff(previous, record)
+        if changes:
+            raise RunConflictError(
+                f"{ctx.workdir} holds a run with a different config; refusing to resume it.\n  "
+                + "\n  ".join(changes)
+                + "\nUse another --out, or delete that folder to start over."
+            )
+        if metrics_path.exists():
+            print(f"[{name}] seed {seed}: already finished, reading {metrics_path}", file=sys.stderr)
+            return json.loads(metrics_path.read_text())
+    else:
+        config_path.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
+    rows = run_fn(config, ctx)
+    metrics = {"rows": {row: {col: _cell_json(v) for col, v in cells.items()} for row, cells in rows.items()}}
+    (ctx.workdir / "table.md").write_text(format_table(_table_cells(metrics), title=f"{name} ({profile}, seed {seed})"))
+    # Written last: its presence marks the seed as finished.
+    metrics_path.write_text(json.dumps(metrics, indent=2, sort_keys=True) + "\n")
+    return metrics
+
+
+def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]]) -> dict[str, Any]:
+    """Mean ± 95% CI over seeds of each cell's per-seed value (its mean, for repeated cells)."""
+    seeds = sorted(per_seed)
+    first = per_seed[seeds[0]]["rows"]
+    rows = {}
+    for row, cells in first.items():
+        rows[row] = {}
+        for col in cells:
+            values = [_cell_mean(per_seed[s]["rows"][row][col]) for s in seeds]
+            rows[row][col] = {**summarize(values).to_dict(), "per_seed": values}
+    return {"seeds": seeds, "rows": rows}
+
+
+def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
+         description: str | None = None) -> dict[str, Any]:
+    """The command line every experiment shares; returns the final metrics (summary for several seeds)."""
+    args = _parser(name, config_cls, description).parse_args(argv)
+    try:
+        config = cfglib.apply_overrides(getattr(config_cls, args.profile)(), args.set)
+    except (cfglib.ConfigError, ValueError) as err:
+        raise SystemExit(f"{name}: {err}") from None
+    if args.print_config:
+        print(cfglib.to_json(config))
+        return {}
+    seeds = _parse_seeds(args.seeds) if args.seeds else [args.seed]
+    per_seed = {}
+    for seed in seeds:
+        try:
+            per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
+                                      data_root=args.data_root)
+        except RunConflictError as err:
+            raise SystemExit(f"{name}: {err}") from None
+    if len(seeds) == 1:
+        result = per_seed[seeds[0]]
+        print(format_table(_table_cells(result), title=f"{name} ({args.profile}, seed {seeds[0]})"))
+        return result
+    summary = aggregate_seeds(per_seed)
+    folder = Path(args.out) / name / args.profile
+    table = format_table(_table_cells(summary), title=f"{name} ({args.profile}, seeds {_seed_list(seeds)}; mean ± 95% CI)")
+    (folder / "table.md").write_text(table)
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n")
+    print(table)
+    return summary
+
+
+# --- internals -------------------------------------------------------------------------------------
+
+
+def _parser(name: str, config_cls: type, description: str | None) -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog=f"python -m experiments.{name}", description=description,
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog="config fields for --set:\n  " + "\n  ".join(cfglib.field_paths(config_cls)))
+    p.add_argument("--profile", choices=cfglib.PROFILES, default="cpu",
+                   help="smoke: seconds (tests); cpu: minutes on a laptop CPU; paper: the paper's settings (GPU)")
+    p.add_argument("--seed", type=int, default=0, help="the one seed every PRNG key derives from")
+    p.add_argument("--seeds", help="comma-separated seeds (e.g. 0,1,2): run each, report mean ± 95%% CI")
+    p.add_argument("--out", default="results", help="results root (default: results)")
+    p.add_argument("--data-root", help="folder with the real dataset files (default: the embedded dataset)")
+    p.add_argument("--set", action="extend", nargs="+", default=[], metavar="FIELD=VALUE",
+                   help="override config fields, e.g. --set train.steps=500 model.layers=4")
+    p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
+    return p
+
+
+def _parse_seeds(text: str) -> list[int]:
+    try:
+        seeds = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise SystemExit(f"--seeds expects comma-separated integers, got {text!r}") from None
+    if not seeds or len(set(seeds)) != len(seeds):
+        raise SystemExit(f"--seeds expects distinct comma-separated integers, got {text!r}")
+    return seeds
+
+
+def _seed_list(seeds: Sequence[int]) -> str:
+    return ",".join(map(str, seeds))
+
+
+def _cell_json(value: float | Sequence[float]) -> float | dict[str, Any]:
+    """A number stays a number; repetitions become their summary plus the raw values."""
+    if np.ndim(value) == 0:
+        return float(value)
+    values = [float(v) for v in np.asarray(value).ravel()]
+    return {**summarize(values).to_dict(), "values": values}
+
+
+def _cell_mean(cell: float | Mapping[str, Any]) -> float:
+    return cell["mean"] if isinstance(cell, Mapping) else cell
+
+
+def _table_cells(metrics: Mapping[str, Any]) -> dict[str, dict[str, float | Summary]]:
+    def cell(c):
+        return Summary.from_dict(c) if isinstance(c, Mapping) else c
+
+    return {row: {col: cell(c) for col, c in cells.items()} for row, cells in metrics["rows"].items()}

@@ -1,0 +1,307 @@
+"""SMPL-format linear-blend-skinning body layer.
+
+No body model ships with jaxmotion (the SMPL files are licence-restricted); the user supplies one.
+A model file holds the fields of the official SMPL release (axis names: V vertices, J joints,
+S shape coefficients, F faces):
+
+    v_template    [V, 3]            rest-pose mean-shape vertices
+    shapedirs     [V, 3, S]         shape blend shapes, driven by betas [S]
+    posedirs      [V, 3, 9*(J-1)]   pose blend shapes, driven by (R_j - I) of the non-root joints in
+                                    joint order, each 3x3 flattened row-major
+    J_regressor   [J, V]            rest joints = J_regressor @ shaped vertices (dense, or a scipy
+                                    sparse matrix as in the official pickles)
+    weights       [V, J]            skinning weights
+    kintree_table [2, J]            row 0: parent of each joint; the root's parent is -1 or a value
+                                    outside [0, J) (4294967295 in the official files)
+    f             [F, 3]            triangle faces (optional; kept for meshing, unused here)
+
+Other keys (e.g. ``bs_style``, ``J``) are ignored. Supported containers: ``.npz`` (numpy) and the
+official ``.pkl`` (a Python-2 pickle of a dict). The official pickles store some arrays as chumpy
+objects; they load only where chumpy is importable, otherwise convert them once, in an environment
+with chumpy, with ``save_body_model("model.npz", pickle_dict)``. Unpickling runs code from the file:
+load only ``.pkl`` files you trust.
+
+The forward pass is SMPL's: shape, pose-corrective blend shapes, forward kinematics (delegated to
+``kinematics.forward_kinematics_transforms``) and linear blend skinning. Output vertices are in world
+coordinates, NOT root-centred: the root joint sits at its rest position plus ``translation``.
+"""
+
+from __future__ import annotations
+
+import functools
+import pickle
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from flax import struct
+
+from jaxmotion.geometry.kinematics import forward_kinematics_transforms
+from jaxmotion.geometry.rotations import axis_angle_to_matrix
+from jaxmotion.geometry.skeletons import topological_order
+
+__all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model"]
+
+# Default matmul precision on GPU/TPU (TF32/bf16) would put millimetre errors on the vertices.
+_einsum = functools.partial(jnp.einsum, precision=jax.lax.Precision.HIGHEST)
+
+
+@struct.dataclass
+class BodyModel:
+    """Parameters of an SMPL-format body model; a JAX pytree whose ``parents`` are static.
+
+    Attributes:
+      v_template: [V, 3] float32 rest-pose template vertices.
+      shapedirs: [V, 3, S] float32 shape blend shapes.
+      posedirs: [V, 3, 9*(J-1)] float32 pose blend shapes.
+      joint_regressor: [J, V] float32 (file field ``J_regressor``).
+      weights: [V, J] float32 skinning weights.
+      parents: static tuple of J parent indices, -1 for the root (joint 0).
+      faces: [F, 3] int32 triangles (file field ``f``), or None when the file has none.
+    """
+
+    v_template: jax.Array
+    shapedirs: jax.Array
+    posedirs: jax.Array
+    joint_regressor: jax.Array
+    weights: jax.Array
+    parents: tuple[int, ...] = struct.field(pytree_node=False)
+    faces: jax.Array | None = None
+
+    @property
+    def num_vertices(self) -> int:
+        return self.v_template.shape[0]
+
+    @property
+    def num_joints(self) -> int:
+        return len(self.parents)
+
+    @property
+    def num_betas(self) -> int:
+        return self.shapedirs.shape[-1]
+
+
+def _densify(value: Any) -> Any:
+    """Turns a scipy sparse matrix (the official J_regressor) into a dense array."""
+    try:
+        import scipy.sparse
+    except ImportError:
+        return value  # without scipy no sparse matrix can have been unpickled
+    return value.toarray() if scipy.sparse.issparse(value) else value
+
+
+def _field(raw: Mapping[str, Any], name: str, rank: int, kinds: str, source: str) -> np.ndarray:
+    if name not in raw:
+        raise ValueError(f"{source}: missing field {name!r} (present: {sorted(raw)})")
+    try:
+        arr = np.asarray(_densify(raw[name]))
+    except Exception as e:  # e.g. an object that numpy cannot convert
+        raise ValueError(f"{source}: field {name!r} cannot be converted to an array: {e}") from e
+    if arr.dtype.kind not in kinds:
+        raise ValueError(f"{source}: field {name!r} has non-numeric or wrong dtype {arr.dtype}")
+    if arr.ndim != rank:
+        raise ValueError(f"{source}: field {name!r} has rank {arr.ndim} (shape {arr.shape}); expected rank {rank}")
+    return arr
+
+
+def _check_shape(source: str, name: str, arr: np.ndarray, expected: tuple[int, ...], axes: str) -> None:
+    if arr.shape != expected:
+        raise ValueError(f"{source}: field {name!r} has shape {arr.shape}; expected {axes} = {expected}")
+
+
+def _parents_from_kintree(kintree: np.ndarray, source: str) -> tuple[int, ...]:
+    raw_parents = kintree[0].astype(np.int64).tolist()
+    # The root's parent is a sentinel outside [0, J): -1, or 4294967295 (uint32 -1) in the official files.
+    if not raw_parents or 0 <= raw_parents[0] < len(raw_parents):
+        raise ValueError(
+            f"{source}: field 'kintree_table' must give joint 0 as the root (parent -1 or 4294967295); "
+            f"got parents {raw_parents}"
+        )
+    parents = (-1, *raw_parents[1:])
+    try:
+        topological_order(parents)
+    except ValueError as e:
+        raise ValueError(f"{source}: field 'kintree_table' is not a tree rooted at joint 0: {e}") from e
+    return parents
+
+
+def _validate(raw: Mapping[str, Any], source: str) -> dict[str, np.ndarray]:
+    """Checks the SMPL-format fields of ``raw``; returns them as numpy arrays (file field names)."""
+    real, integer = "iuf", "iu"
+    kintree = _field(raw, "kintree_table", 2, integer, source)
+    if kintree.shape[0] != 2:
+        raise ValueError(f"{source}: field 'kintree_table' has shape {kintree.shape}; expected [2, J]")
+    parents = _parents_from_kintree(kintree, source)
+    num_joints = len(parents)
+    v_template = _field(raw, "v_template", 2, real, source)
+    num_vertices = v_template.shape[0]
+    _check_shape(source, "v_template", v_template, (num_vertices, 3), "[V, 3]")
+    shapedirs = _field(raw, "shapedirs", 3, real, source)
+    _check_shape(source, "shapedirs", shapedirs, (num_vertices, 3, shapedirs.shape[2]), "[V, 3, S]")
+    posedirs = _field(raw, "posedirs", 3, real, source)
+    _check_shape(source, "posedirs", posedirs, (num_vertices, 3, 9 * (num_joints - 1)), "[V, 3, 9*(J-1)]")
+    regressor = _field(raw, "J_regressor", 2, real, source)
+    _check_shape(source, "J_regressor", regressor, (num_joints, num_vertices), "[J, V]")
+    weights = _field(raw, "weights", 2, real, source)
+    _check_shape(source, "weights", weights, (num_vertices, num_joints), "[V, J]")
+    fields = {
+        "v_template": v_template,
+        "shapedirs": shapedirs,
+        "posedirs": posedirs,
+        "J_regressor": regressor,
+        "weights": weights,
+        "kintree_table": kintree,
+    }
+    if "f" in raw:
+        faces = _field(raw, "f", 2, integer, source)
+        _check_shape(source, "f", faces, (faces.shape[0], 3), "[F, 3]")
+        fields["f"] = faces
+    return fields
+
+
+def _read_pickle(path: Path) -> Any:
+    try:
+        with path.open("rb") as fh:
+            # latin1 decodes the Python-2 numpy buffers of the official files byte for byte.
+            return pickle.load(fh, encoding="latin1")
+    except ImportError as e:
+        if (e.name or "").split(".")[0] == "chumpy":
+            raise ImportError(
+                f"{path}: this pickle stores chumpy objects and chumpy is not importable; install chumpy, or "
+                "where it is importable convert the file once with "
+                "save_body_model('model.npz', pickle.load(f, encoding='latin1'))"
+            ) from e
+        raise ImportError(f"{path}: unpickling failed to import {e.name!r} ({e}); convert the file to .npz") from e
+    except Exception as e:
+        raise ValueError(f"{path}: cannot unpickle as an SMPL-format model ({type(e).__name__}: {e})") from e
+
+
+def load_body_model(path: str | Path) -> BodyModel:
+    """Loads an SMPL-format model from ``.npz`` or the official ``.pkl``.
+
+    Raises:
+      FileNotFoundError: ``path`` does not exist.
+      ValueError: unknown suffix, or a missing / malformed field (the message names the file, the
+        field and the expected shape).
+      ImportError: a ``.pkl`` needs a module that is not importable (chumpy, scipy).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"SMPL-format body model not found: {path}")
+    suffix = path.suffix.lower()
+    if suffix == ".npz":
+        try:
+            with np.load(path, allow_pickle=False) as npz:
+                raw = {key: npz[key] for key in npz.files}
+        except ValueError as e:  # object arrays, which allow_pickle=False refuses
+            raise ValueError(f"{path}: cannot read as a plain-array .npz: {e}") from e
+    elif suffix == ".pkl":
+        raw = _read_pickle(path)
+        if not isinstance(raw, Mapping):
+            raise ValueError(f"{path}: expected a pickled dict of SMPL fields, got {type(raw).__name__}")
+    else:
+        raise ValueError(f"{path}: unsupported body-model format {suffix!r}; expected .npz or .pkl")
+    fields = _validate(raw, str(path))
+    return BodyModel(
+        v_template=jnp.asarray(fields["v_template"], jnp.float32),
+        shapedirs=jnp.asarray(fields["shapedirs"], jnp.float32),
+        posedirs=jnp.asarray(fields["posedirs"], jnp.float32),
+        joint_regressor=jnp.asarray(fields["J_regressor"], jnp.float32),
+        weights=jnp.asarray(fields["weights"], jnp.float32),
+        parents=_parents_from_kintree(fields["kintree_table"], str(path)),
+        faces=jnp.asarray(fields["f"], jnp.int32) if "f" in fields else None,
+    )
+
+
+def save_body_model(path: str | Path, model: BodyModel | Mapping[str, Any]) -> None:
+    """Writes a model as ``.npz`` in the SMPL field layout that ``load_body_model`` reads.
+
+    ``model`` is a ``BodyModel`` or a mapping with the SMPL field names (e.g. an official pickle's
+    dict: chumpy arrays and sparse J_regressor are converted, extra keys dropped). Mappings are
+    validated first so no unloadable file is written.
+    """
+    if isinstance(model, BodyModel):
+        model = {
+            "v_template": model.v_template,
+            "shapedirs": model.shapedirs,
+            "posedirs": model.posedirs,
+            "J_regressor": model.joint_regressor,
+            "weights": model.weights,
+            "kintree_table": np.stack([np.asarray(model.parents), np.arange(model.num_joints)]),
+            **({} if model.faces is None else {"f": model.faces}),
+        }
+    np.savez(path, **_validate(model, str(path)))
+
+
+def body_forward_rotmats(
+    model: BodyModel,
+    rotmats: jax.Array,
+    betas: jax.Array | None = None,
+    translation: jax.Array | None = None,
+) -> tuple[jax.Array, jax.Array]:
+    """Poses and skins the body from local joint rotation matrices.
+
+    Leading axes ``...`` of the three inputs broadcast against each other (e.g. one ``betas [S']``
+    for a whole ``[T, J, 3, 3]`` sequence).
+
+    Args:
+      model: the body model.
+      rotmats: [..., J, 3, 3] local (parent-relative) joint rotations, joint 0 global.
+      betas: [..., S'] shape coefficients with S' <= S; missing trailing ones count as zero. None = zeros.
+      translation: [..., 3] world translation of the whole body. None = zeros.
+
+    Returns:
+      vertices [..., V, 3] and joints [..., J, 3], both in world coordinates (not root-centred).
+    """
+    num_joints = model.num_joints
+    if rotmats.shape[-3:] != (num_joints, 3, 3):
+        raise ValueError(f"rotmats must have shape [..., {num_joints}, 3, 3]; got {rotmats.shape}")
+    betas = jnp.zeros((0,), rotmats.dtype) if betas is None else jnp.asarray(betas)
+    translation = jnp.zeros((3,), rotmats.dtype) if translation is None else jnp.asarray(translation)
+    if betas.ndim < 1 or betas.shape[-1] > model.num_betas:
+        raise ValueError(f"betas must have shape [..., S'] with S' <= {model.num_betas}; got {betas.shape}")
+    if translation.ndim < 1 or translation.shape[-1] != 3:
+        raise ValueError(f"translation must have shape [..., 3]; got {translation.shape}")
+    batch = jnp.broadcast_shapes(rotmats.shape[:-3], betas.shape[:-1], translation.shape[:-1])
+
+    # Zero-padding betas to S equals using only the first S' blend shapes.
+    shapedirs = model.shapedirs[..., : betas.shape[-1]]
+    v_shaped = model.v_template + _einsum("vcs,...s->...vc", shapedirs, betas)  # [..., V, 3]
+    rest_joints = _einsum("jv,...vc->...jc", model.joint_regressor, v_shaped)  # [..., J, 3]
+
+    # Pose correctives vanish at the rest pose because they are driven by R - I, not R.
+    pose_feature = (rotmats[..., 1:, :, :] - jnp.eye(3, dtype=rotmats.dtype)).reshape(
+        *rotmats.shape[:-3], 9 * (num_joints - 1)
+    )
+    v_posed = v_shaped + _einsum("vcp,...p->...vc", model.posedirs, pose_feature)  # [..., V, 3]
+
+    parent_index = np.array([max(p, 0) for p in model.parents])  # root offset is unused by FK
+    offsets = rest_joints - rest_joints[..., parent_index, :]
+    # Translation enters as the root position, so the skinning transforms carry it to the vertices.
+    root = rest_joints[..., 0, :] + translation
+    global_rotmats, joints = forward_kinematics_transforms(
+        jnp.broadcast_to(rotmats, (*batch, num_joints, 3, 3)),
+        jnp.broadcast_to(root, (*batch, 3)),
+        jnp.broadcast_to(offsets, (*batch, num_joints, 3)),
+        model.parents,
+    )
+
+    # A_j maps a rest-pose point to its posed position if rigidly attached to joint j.
+    rest_to_posed = joints - _einsum("...jab,...jb->...ja", global_rotmats, rest_joints)  # [..., J, 3]
+    blend_rot = _einsum("vj,...jab->...vab", model.weights, global_rotmats)  # [..., V, 3, 3]
+    blend_trans = _einsum("vj,...ja->...va", model.weights, rest_to_posed)  # [..., V, 3]
+    vertices = _einsum("...vab,...vb->...va", blend_rot, v_posed) + blend_trans
+    return vertices, joints
+
+
+def body_forward(
+    model: BodyModel,
+    pose: jax.Array,
+    betas: jax.Array | None = None,
+    translation: jax.Array | None = None,
+) -> tuple[jax.Array, jax.Array]:
+    """``body_forward_rotmats`` with the pose given as axis-angle ``[..., J, 3]`` (radians)."""
+    return body_forward_rotmats(model, axis_angle_to_matrix(jnp.asarray(pose)), betas, translation)

@@ -1,0 +1,230 @@
+"""Conversions among axis-angle, quaternion, rotation matrix and ACTOR's 6D representation.
+
+Conventions (binding for the whole library):
+
+* Column vectors: ``v' = R @ v``. For row arrays of points ``p`` of shape [..., N, 3] use
+  ``p @ R.T`` (or ``jnp.einsum("...ij,...nj->...ni", R, p)``).
+* Axis-angle is a rotation vector [..., 3]: direction = axis, norm = angle in radians.
+* Quaternions are [..., 4] in (w, x, y, z) order, w the real part. ``axis_angle_to_quaternion``
+  gives w >= 0 for angles in [0, pi]; ``matrix_to_quaternion`` returns a unit quaternion with w >= 0.
+  ``quaternion_to_matrix`` accepts non-unit quaternions (scale s = 2 / |q|^2, as in pytorch3d).
+* ``quaternion_to_axis_angle`` uses angle = 2 atan2(|v|, w) after flipping q to w >= 0, so the
+  returned rotation vector is canonical: angle in [0, pi].
+* 6D ("rot6d", ACTOR) = the first two ROWS of the matrix, flattened:
+  [R00, R01, R02, R10, R11, R12], shape [..., 6]. The inverse is Gram-Schmidt:
+  b1 = normalize(a1), b2 = normalize(a2 - <b1, a2> b1), b3 = b1 x b2, rows of R = (b1, b2, b3).
+
+All functions are batched over any leading axes, jit-able and differentiable, and keep values and
+gradients finite at angle 0 and at pi (double-where + Taylor branches; matrix -> quaternion picks the
+best-conditioned of four candidates). The input dtype is preserved.
+"""
+
+from types import MappingProxyType
+
+import jax.numpy as jnp
+
+__all__ = [
+    "REPRESENTATIONS",
+    "axis_angle_to_matrix",
+    "axis_angle_to_quaternion",
+    "from_matrix",
+    "matrix_to_axis_angle",
+    "matrix_to_quaternion",
+    "matrix_to_rot6d",
+    "quaternion_to_axis_angle",
+    "quaternion_to_matrix",
+    "rot6d_to_matrix",
+    "to_matrix",
+]
+
+# Trailing shape of each representation (model configs derive feature sizes from it).
+REPRESENTATIONS = MappingProxyType(
+    {"axis_angle": (3,), "quaternion": (4,), "matrix": (3, 3), "rot6d": (6,)}
+)
+
+# Squared angle (or squared tan of the half angle) below which Taylor series replace the closed forms:
+# theta < 1e-3, where the truncation error (~theta^6) is far below float64 precision.
+_SMALL_SQ = 1e-6
+# Squared-norm floor for the Gram-Schmidt normalisation: zero input gives finite values and gradients.
+_NORM_EPS_SQ = 1e-12
+
+
+def _checked(x, shape, fn, arg):
+    """Return ``x`` as an array after checking its trailing shape; raise a ValueError naming ``arg``."""
+    x = jnp.asarray(x)
+    if x.shape[-len(shape):] != shape:
+        dims = ", ".join(str(d) for d in shape)
+        raise ValueError(f"{fn}: expected {arg} of shape [..., {dims}], got {tuple(x.shape)}")
+    return x
+
+
+def _safe_sqrt(sq, small):
+    """sqrt(sq) where ``small`` is False, 1 elsewhere, so its gradient is never inf (double-where trick)."""
+    return jnp.sqrt(jnp.where(small, jnp.ones_like(sq), sq))
+
+
+def _skew(v):
+    """[..., 3] -> [..., 3, 3]: the cross-product matrix, skew(v) @ u = v x u."""
+    x, y, z = v[..., 0], v[..., 1], v[..., 2]
+    zero = jnp.zeros_like(x)
+    rows = (
+        jnp.stack([zero, -z, y], axis=-1),
+        jnp.stack([z, zero, -x], axis=-1),
+        jnp.stack([-y, x, zero], axis=-1),
+    )
+    return jnp.stack(rows, axis=-2)
+
+
+def axis_angle_to_matrix(axis_angle):
+    """[..., 3] -> [..., 3, 3]. Rodrigues: R = I + a K + b K^2 with K = skew(v) (v not normalised)."""
+    v = _checked(axis_angle, (3,), "axis_angle_to_matrix", "axis_angle")
+    sq = jnp.sum(v * v, axis=-1)
+    small = sq < _SMALL_SQ
+    theta = _safe_sqrt(sq, small)
+    half = 0.5 * theta
+    # a = sin(t)/t; b = (1 - cos t)/t^2 written as 2 sin^2(t/2)/t^2 to avoid cancellation in float32.
+    a = jnp.where(small, 1.0 - sq / 6.0 + sq * sq / 120.0, jnp.sin(theta) / theta)
+    b = jnp.where(small, 0.5 - sq / 24.0 + sq * sq / 720.0, 0.5 * jnp.square(jnp.sin(half) / half))
+    k = _skew(v)
+    eye = jnp.eye(3, dtype=k.dtype)
+    return eye + a[..., None, None] * k + b[..., None, None] * (k @ k)
+
+
+def axis_angle_to_quaternion(axis_angle):
+    """[..., 3] -> [..., 4] (w, x, y, z); w = cos(t/2) >= 0 for angles t in [0, pi]."""
+    v = _checked(axis_angle, (3,), "axis_angle_to_quaternion", "axis_angle")
+    sq = jnp.sum(v * v, axis=-1)
+    small = sq < _SMALL_SQ
+    theta = _safe_sqrt(sq, small)
+    w = jnp.where(small, 1.0 - sq / 8.0 + sq * sq / 384.0, jnp.cos(0.5 * theta))
+    s = jnp.where(small, 0.5 - sq / 48.0 + sq * sq / 3840.0, jnp.sin(0.5 * theta) / theta)  # sin(t/2)/t
+    return jnp.concatenate([w[..., None], s[..., None] * v], axis=-1)
+
+
+def quaternion_to_matrix(quaternion):
+    """[..., 4] (w, x, y, z), any non-zero norm -> [..., 3, 3]; s = 2/|q|^2 absorbs the norm."""
+    q = _checked(quaternion, (4,), "quaternion_to_matrix", "quaternion")
+    sq = jnp.sum(q * q, axis=-1)
+    s = 2.0 / jnp.where(sq > 0, sq, jnp.ones_like(sq))  # zero quaternion -> identity, not NaN
+    w, x, y, z = (q[..., i] for i in range(4))
+    m = jnp.stack(
+        [
+            1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w),
+            s * (x * y + z * w), 1 - s * (x * x + z * z), s * (y * z - x * w),
+            s * (x * z - y * w), s * (y * z + x * w), 1 - s * (x * x + y * y),
+        ],
+        axis=-1,
+    )
+    return m.reshape(q.shape[:-1] + (3, 3))
+
+
+def matrix_to_quaternion(matrix):
+    """[..., 3, 3] -> [..., 4] unit quaternion (w, x, y, z) with w >= 0.
+
+    Each row of ``cand`` is 4 * (one component) * q; the row whose diagonal entry (4 * component^2)
+    is largest is divided by 2 sqrt(diagonal) >= 1 for a rotation, so values and gradients stay
+    finite everywhere, 180 degrees included. Only the selected diagonal is square-rooted.
+    """
+    m = _checked(matrix, (3, 3), "matrix_to_quaternion", "matrix")
+    m00, m01, m02 = m[..., 0, 0], m[..., 0, 1], m[..., 0, 2]
+    m10, m11, m12 = m[..., 1, 0], m[..., 1, 1], m[..., 1, 2]
+    m20, m21, m22 = m[..., 2, 0], m[..., 2, 1], m[..., 2, 2]
+    d = jnp.stack(  # 4 w^2, 4 x^2, 4 y^2, 4 z^2
+        [1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22], axis=-1
+    )
+    cand = jnp.stack(
+        [
+            jnp.stack([d[..., 0], m21 - m12, m02 - m20, m10 - m01], axis=-1),
+            jnp.stack([m21 - m12, d[..., 1], m10 + m01, m02 + m20], axis=-1),
+            jnp.stack([m02 - m20, m10 + m01, d[..., 2], m12 + m21], axis=-1),
+            jnp.stack([m10 - m01, m02 + m20, m12 + m21, d[..., 3]], axis=-1),
+        ],
+        axis=-2,
+    )
+    best = jnp.argmax(d, axis=-1)[..., None]
+    row = jnp.take_along_axis(cand, best[..., None], axis=-2)[..., 0, :]
+    d_best = jnp.take_along_axis(d, best, axis=-1)
+    # The floor only matters for non-rotation input (max diagonal >= 1 for any rotation).
+    q = row / (2.0 * jnp.sqrt(jnp.maximum(d_best, 1e-2)))
+    return jnp.where(q[..., :1] < 0, -q, q)
+
+
+def quaternion_to_axis_angle(quaternion):
+    """[..., 4] (w, x, y, z), any non-zero norm -> [..., 3] rotation vector with angle in [0, pi].
+
+    With q flipped to w >= 0: angle = 2 atan2(|v|, w) and the result is v * angle / |v|; for small
+    t = |v| / w the factor is the series (2 / w)(1 - t^2/3 + t^4/5) of 2 atan(t) / |v|.
+    """
+    q = _checked(quaternion, (4,), "quaternion_to_axis_angle", "quaternion")
+    q = jnp.where(q[..., :1] < 0, -q, q)  # q and -q are the same rotation; w >= 0 gives angle <= pi
+    w, v = q[..., 0], q[..., 1:]
+    sq = jnp.sum(v * v, axis=-1)
+    small = sq <= _SMALL_SQ * w * w
+    n = _safe_sqrt(sq, small)
+    large_factor = 2.0 * jnp.arctan2(n, w) / n
+    w_s = jnp.where(small & (w > 0), w, jnp.ones_like(w))  # 1 in the unused branch keeps 1/w finite
+    t2 = sq / (w_s * w_s)
+    small_factor = (2.0 / w_s) * (1.0 - t2 / 3.0 + t2 * t2 / 5.0)
+    return jnp.where(small, small_factor, large_factor)[..., None] * v
+
+
+def matrix_to_axis_angle(matrix):
+    """[..., 3, 3] -> [..., 3] rotation vector with angle in [0, pi] (via the robust quaternion path)."""
+    m = _checked(matrix, (3, 3), "matrix_to_axis_angle", "matrix")
+    return quaternion_to_axis_angle(matrix_to_quaternion(m))
+
+
+def matrix_to_rot6d(matrix):
+    """[..., 3, 3] -> [..., 6]: the first two rows, [R00, R01, R02, R10, R11, R12] (ACTOR)."""
+    m = _checked(matrix, (3, 3), "matrix_to_rot6d", "matrix")
+    return m[..., :2, :].reshape(m.shape[:-2] + (6,))
+
+
+def _normalize(x):
+    """[..., 3] -> [..., 3] unit vector; the squared-norm floor keeps zero input finite."""
+    return x / jnp.sqrt(jnp.maximum(jnp.sum(x * x, axis=-1, keepdims=True), _NORM_EPS_SQ))
+
+
+def rot6d_to_matrix(rot6d):
+    """[..., 6] (any, not necessarily orthogonal) -> [..., 3, 3] by Gram-Schmidt on the two rows."""
+    x = _checked(rot6d, (6,), "rot6d_to_matrix", "rot6d")
+    a1, a2 = x[..., :3], x[..., 3:]
+    b1 = _normalize(a1)
+    b2 = _normalize(a2 - jnp.sum(b1 * a2, axis=-1, keepdims=True) * b1)
+    b3 = jnp.cross(b1, b2)
+    return jnp.stack([b1, b2, b3], axis=-2)
+
+
+def _identity_matrix(matrix):
+    """[..., 3, 3] -> [..., 3, 3] unchanged (shape-checked): the "matrix" representation."""
+    return _checked(matrix, (3, 3), "to_matrix/from_matrix", "matrix")
+
+
+_TO_MATRIX = {
+    "axis_angle": axis_angle_to_matrix,
+    "quaternion": quaternion_to_matrix,
+    "matrix": _identity_matrix,
+    "rot6d": rot6d_to_matrix,
+}
+_FROM_MATRIX = {
+    "axis_angle": matrix_to_axis_angle,
+    "quaternion": matrix_to_quaternion,
+    "matrix": _identity_matrix,
+    "rot6d": matrix_to_rot6d,
+}
+
+
+def _converter(table, rep, fn):
+    if rep not in table:
+        raise ValueError(f"{fn}: unknown rep {rep!r}; valid names are {sorted(REPRESENTATIONS)}")
+    return table[rep]
+
+
+def to_matrix(x, rep):
+    """[..., *REPRESENTATIONS[rep]] -> [..., 3, 3]."""
+    return _converter(_TO_MATRIX, rep, "to_matrix")(x)
+
+
+def from_matrix(m, rep):
+    """[..., 3, 3] -> [..., *REPRESENTATIONS[rep]]."""
+    return _converter(_FROM_MATRIX, rep, "from_matrix")(m)

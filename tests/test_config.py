@@ -1,0 +1,82 @@
+"""Config round trips and command-line overrides."""
+
+import dataclasses
+from typing import Literal
+
+import pytest
+
+from jaxmotion import config as cfglib
+
+
+@dataclasses.dataclass(frozen=True)
+class Inner:
+    steps: int = 10
+    lr: float = 1e-3
+    dims: tuple[int, ...] = (64, 64)
+
+
+@dataclasses.dataclass(frozen=True)
+class Outer:
+    inner: Inner = Inner()
+    rep: Literal["axis_angle", "rot6d"] = "rot6d"
+    name: str = "x"
+    flag: bool = False
+    maybe: int | None = None
+
+
+def test_to_dict_from_dict_round_trip():
+    cfg = Outer(Inner(3, 0.5, (1, 2, 3)), "axis_angle", "y", True, 7)
+    data = cfglib.to_dict(cfg)
+    assert data["inner"]["dims"] == [1, 2, 3]
+    assert cfglib.from_dict(Outer, data) == cfg
+
+
+def test_overrides_parse_by_field_type():
+    cfg = cfglib.apply_overrides(
+        Outer(), ["inner.steps=5", "inner.lr=2e-4", "inner.dims=[8,16]", "rep=axis_angle", "name=abc",
+                  "flag=true", "maybe=3"]
+    )
+    assert cfg == Outer(Inner(5, 2e-4, (8, 16)), "axis_angle", "abc", True, 3)
+    assert cfglib.apply_overrides(cfg, ["maybe=None"]).maybe is None
+
+
+def test_int_field_accepted_for_float_but_not_the_reverse():
+    assert cfglib.apply_overrides(Outer(), ["inner.lr=1"]).inner.lr == 1.0
+    with pytest.raises(cfglib.ConfigError, match="inner.steps: expected an integer"):
+        cfglib.apply_overrides(Outer(), ["inner.steps=1.5"])
+
+
+@pytest.mark.parametrize(
+    "override, message",
+    [
+        ("inner.nope=1", "unknown config field 'inner.nope'; valid fields: inner.steps, inner.lr, inner.dims, rep"),
+        ("rep=quaternion", r"rep: expected one of \['axis_angle', 'rot6d'\]"),
+        ("flag=yes", "flag: expected true or false"),
+        ("inner=3", "is a group of fields"),
+        ("name", "must look like field.path=value"),
+        ("name.x=1", "unknown config field 'name.x'"),
+    ],
+)
+def test_bad_overrides_name_the_field(override, message):
+    with pytest.raises(cfglib.ConfigError, match=message):
+        cfglib.apply_overrides(Outer(), [override])
+
+
+def test_from_dict_rejects_unknown_fields():
+    with pytest.raises(cfglib.ConfigError, match="unknown fields"):
+        cfglib.from_dict(Outer, {"inner": {"steps": 1, "typo": 2}})
+
+
+def test_diff_lists_changed_paths():
+    a, b = cfglib.to_dict(Outer()), cfglib.to_dict(Outer(inner=Inner(steps=11)))
+    assert cfglib.diff(a, b) == ["inner.steps: 10 -> 11"]
+    assert cfglib.diff(a, a) == []
+
+
+def test_unsupported_field_type_is_rejected():
+    @dataclasses.dataclass(frozen=True)
+    class Bad:
+        x: dict = dataclasses.field(default_factory=dict)
+
+    with pytest.raises(cfglib.ConfigError, match="unsupported config field type"):
+        cfglib.to_dict(Bad())

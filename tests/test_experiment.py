@@ -1,0 +1,149 @@
+"""The experiment runner: determinism, kill-and-resume, refusal to resume another config, seed sweeps."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import jax
+import numpy as np
+import pytest
+
+from jaxmotion import experiment
+from jaxmotion.train import Checkpointer, LoopConfig
+
+sys.path.insert(0, str(Path(__file__).parent))
+import toy_experiment  # noqa: E402
+
+TOY = Path(__file__).with_name("toy_experiment.py")
+REPO = Path(__file__).resolve().parents[1]
+
+
+def _run_toy(out, *args, capsys=None):
+    return toy_experiment.main(["--profile", "smoke", "--out", str(out), *args])
+
+
+def _seed_dir(out, seed=0, profile="smoke"):
+    return Path(out) / "toy" / profile / f"seed-{seed}"
+
+
+def test_same_seed_same_metrics(tmp_path):
+    _run_toy(tmp_path / "a")
+    _run_toy(tmp_path / "b")
+    for name in ["metrics.json", "metrics.jsonl", "config.json", "table.md"]:
+        assert (_seed_dir(tmp_path / "a") / name).read_bytes() == (_seed_dir(tmp_path / "b") / name).read_bytes()
+
+
+def test_different_seeds_differ(tmp_path):
+    a = _run_toy(tmp_path, "--seed", "0")
+    b = _run_toy(tmp_path, "--seed", "1")
+    assert a["rows"]["mlp"]["params_l2"] != b["rows"]["mlp"]["params_l2"]
+
+
+def test_run_folder_holds_the_documented_files(tmp_path):
+    _run_toy(tmp_path)
+    d = _seed_dir(tmp_path)
+    record = json.loads((d / "config.json").read_text())
+    assert record["experiment"] == "toy" and record["profile"] == "smoke" and record["seed"] == 0
+    assert record["config"]["train"]["steps"] == 40
+    steps = [json.loads(line)["step"] for line in (d / "metrics.jsonl").read_text().splitlines()]
+    assert steps == [10, 20, 30, 40]
+    assert Checkpointer(d / "checkpoints").latest_step() == 40
+    assert "| mlp |" in (d / "table.md").read_text()
+
+
+def test_repeated_cells_are_reported_with_interval(tmp_path):
+    cell = _run_toy(tmp_path)["rows"]["mlp"]["eval_mse"]
+    assert cell["n"] == 4 and len(cell["values"]) == 4
+    assert cell["mean"] == pytest.approx(np.mean(cell["values"]))
+    assert cell["ci95"] > 0
+
+
+def test_finished_seed_is_read_back_not_retrained(tmp_path, capsys):
+    first = _run_toy(tmp_path)
+    mtime = (_seed_dir(tmp_path) / "metrics.json").stat().st_mtime_ns
+    assert _run_toy(tmp_path) == first
+    assert (_seed_dir(tmp_path) / "metrics.json").stat().st_mtime_ns == mtime
+    assert "already finished" in capsys.readouterr().err
+
+
+def test_resume_with_a_different_config_is_refused(tmp_path):
+    _run_toy(tmp_path)
+    with pytest.raises(SystemExit, match=r"different config(.|\n)*config.lr: 0.01 -> 0.02"):
+        _run_toy(tmp_path, "--set", "lr=0.02")
+
+
+def test_unknown_override_lists_valid_fields(tmp_path):
+    with pytest.raises(SystemExit, match="unknown config field 'layers'; valid fields: train.steps"):
+        _run_toy(tmp_path, "--set", "layers=3")
+
+
+def test_seeds_sweep_writes_mean_and_interval(tmp_path):
+    summary = _run_toy(tmp_path, "--seeds", "0,1,2")
+    cell = summary["rows"]["mlp"]["params_l2"]
+    per_seed = [json.loads((_seed_dir(tmp_path, s) / "metrics.json").read_text())["rows"]["mlp"]["params_l2"]
+                for s in range(3)]
+    assert summary["seeds"] == [0, 1, 2] and cell["per_seed"] == per_seed and cell["n"] == 3
+    assert cell["mean"] == pytest.approx(np.mean(per_seed))
+    assert cell["ci95"] == pytest.approx(4.3027 * np.std(per_seed, ddof=1) / np.sqrt(3), rel=1e-4)
+    table = (tmp_path / "toy" / "smoke" / "table.md").read_text()
+    assert "seeds 0,1,2" in table and " ± " in table
+
+
+def test_named_key_streams_are_independent_and_stable(tmp_path):
+    ctx = experiment.RunContext("toy", "smoke", 3, tmp_path)
+    a, b = ctx.key("init"), ctx.key("train")
+    assert not np.array_equal(jax.random.key_data(a), jax.random.key_data(b))
+    again = experiment.RunContext("toy", "smoke", 3, tmp_path / "elsewhere").key("init")
+    assert np.array_equal(jax.random.key_data(a), jax.random.key_data(again))
+
+
+def test_print_config_shows_resolved_overrides(tmp_path, capsys):
+    _run_toy(tmp_path, "--set", "hidden=7", "train.steps=3", "--print-config")
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["hidden"] == 7 and printed["train"]["steps"] == 3
+    assert not (tmp_path / "toy").exists()
+
+
+@pytest.mark.slow
+def test_killed_run_resumes_bitwise_equal(tmp_path):
+    """SIGKILL a training subprocess between checkpoints, rerun the same command, compare to an unbroken run."""
+    args = ["--profile", "cpu", "--set", "train.steps=200", "step_sleep_s=0.01"]
+    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    toy_experiment.main(["--out", str(tmp_path / "whole"), *args])  # the uninterrupted reference, in-process
+
+    broken = tmp_path / "broken"
+    proc = subprocess.Popen([sys.executable, str(TOY), "--out", str(broken), *args], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ckpt_dir = _seed_dir(broken, profile="cpu") / "checkpoints"
+    deadline = time.monotonic() + 120
+    while not (ckpt_dir / "100" / "commit_success.txt").exists():
+        assert proc.poll() is None, "the run ended before it could be killed"
+        assert time.monotonic() < deadline, "no checkpoint appeared"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not (_seed_dir(broken, profile="cpu") / "metrics.json").exists()
+    killed_at = Checkpointer(ckpt_dir).latest_step()
+    assert killed_at is not None and killed_at < 200
+
+    resumed = subprocess.run([sys.executable, str(TOY), "--out", str(broken), *args], check=True, env=env,
+                             capture_output=True, text=True)
+    # The resumed process starts at the checkpoint: it never reports a step at or before it.
+    reported = [int(line.split()[1].split("/")[0]) for line in resumed.stderr.splitlines() if line.startswith("step ")]
+    assert reported and min(reported) > killed_at
+
+    whole_dir, broken_dir = _seed_dir(tmp_path / "whole", profile="cpu"), _seed_dir(broken, profile="cpu")
+    for name in ["metrics.json", "metrics.jsonl"]:
+        assert (whole_dir / name).read_bytes() == (broken_dir / name).read_bytes()
+    a = Checkpointer(whole_dir / "checkpoints").restore()
+    b = Checkpointer(broken_dir / "checkpoints").restore()
+    jax.tree.map(lambda x, y: np.testing.assert_array_equal(np.asarray(x), np.asarray(y)), a, b)
+
+
+def test_loop_config_rejects_misaligned_checkpoints():
+    with pytest.raises(ValueError, match="checkpoint_every .* multiple of log_every"):
+        LoopConfig(steps=100, log_every=30, checkpoint_every=50)
