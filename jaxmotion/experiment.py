@@ -117,6 +117,7 @@ def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]]) -> dict[str, Any]
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
          description: str | None = None) -> dict[str, Any]:
     """The command line every experiment shares; returns the final metrics (summary for several seeds)."""
+    check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
     try:
         config = cfglib.apply_overrides(getattr(config_cls, args.profile)(), args.set)
@@ -144,6 +145,16 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     (folder / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n")
     print(table)
     return summary
+
+
+def check_config_class(config_cls: type) -> None:
+    """An experiment config is a frozen dataclass with one named constructor per profile."""
+    params = getattr(config_cls, "__dataclass_params__", None)
+    if params is None or not params.frozen:
+        raise TypeError(f"{config_cls.__qualname__} must be a frozen dataclass (@dataclass(frozen=True))")
+    missing = [p for p in cfglib.PROFILES if not callable(getattr(config_cls, p, None))]
+    if missing:
+        raise TypeError(f"{config_cls.__qualname__} lacks the profile constructors {missing} (classmethods)")
 
 
 # --- internals -------------------------------------------------------------------------------------

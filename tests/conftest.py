@@ -13,3 +13,17 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile("jaxmotion")
+
+
+import pathlib  # noqa: E402
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def shared_dir() -> pathlib.Path:
+    """The project's shared/ folder (beside the checkout, or $JAXMOTION_SHARED); skip tests when absent."""
+    root = pathlib.Path(os.environ.get("JAXMOTION_SHARED", pathlib.Path(__file__).resolve().parents[2] / "shared"))
+    if not (root / "a2m").is_dir():
+        pytest.skip(f"shared reference files not found at {root} (set JAXMOTION_SHARED to their folder)")
+    return root

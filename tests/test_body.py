@@ -235,7 +235,7 @@ def test_missing_file_names_path(tmp_path):
         ("weights", None, r"missing field 'weights'"),
         ("posedirs", np.zeros((NUM_VERTICES, 3, 26)), r"'posedirs'.*\[V, 3, 9\*\(J-1\)\] = \(40, 3, 27\)"),
         ("weights", np.zeros((NUM_VERTICES + 1, NUM_JOINTS)), r"'weights'.*\[V, J\] = \(40, 4\)"),
-        ("J_regressor", np.zeros((NUM_JOINTS, NUM_VERTICES, 1)), r"'J_regressor'.*expected rank 2"),
+        ("J_regressor", np.zeros((NUM_JOINTS, NUM_VERTICES, 1)), r"'J_regressor'.*expected rank 2, \[J, V\]"),
         ("v_template", np.full((NUM_VERTICES, 3), "x"), r"'v_template'.*dtype"),
         ("kintree_table", np.array([[-1, 0, 3, 2], [0, 1, 2, 3]]), r"'kintree_table'"),
     ],
@@ -253,11 +253,17 @@ def test_malformed_file_raises_naming_file_and_field(tmp_path, fields, field, va
     assert info.match(message)
 
 
-def test_unsupported_suffix(tmp_path):
+def test_unsupported_suffix_and_unreadable_files(tmp_path):
     path = tmp_path / "model.json"
     path.write_text("{}")
     with pytest.raises(ValueError, match=r"\.npz or \.pkl"):
         load_body_model(path)
+    (tmp_path / "corrupt.npz").write_bytes(b"PK\x03\x04 truncated")
+    with pytest.raises(ValueError, match="corrupt.npz"):
+        load_body_model(tmp_path / "corrupt.npz")
+    _write_pkl(tmp_path / "list.pkl", [1, 2, 3])
+    with pytest.raises(ValueError, match=r"list\.pkl.*dict"):
+        load_body_model(tmp_path / "list.pkl")
 
 
 def test_chumpy_pickle_explains_conversion(tmp_path, fields, monkeypatch):

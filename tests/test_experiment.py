@@ -147,3 +147,27 @@ def test_killed_run_resumes_bitwise_equal(tmp_path):
 def test_loop_config_rejects_misaligned_checkpoints():
     with pytest.raises(ValueError, match="checkpoint_every .* multiple of log_every"):
         LoopConfig(steps=100, log_every=30, checkpoint_every=50)
+
+
+def test_config_class_must_be_frozen_with_all_profiles():
+    import dataclasses
+
+    @dataclasses.dataclass
+    class Mutable:
+        x: int = 0
+
+    @dataclasses.dataclass(frozen=True)
+    class NoPaper:
+        x: int = 0
+
+        @classmethod
+        def smoke(cls):
+            return cls()
+
+        cpu = smoke
+
+    with pytest.raises(TypeError, match="frozen dataclass"):
+        experiment.check_config_class(Mutable)
+    with pytest.raises(TypeError, match=r"\['paper'\]"):
+        experiment.check_config_class(NoPaper)
+    experiment.check_config_class(toy_experiment.ToyConfig)

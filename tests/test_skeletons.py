@@ -20,7 +20,9 @@ ALL_SKELETONS = [SMPL24, CMU_MOCAP20, UESTC18, NTU25]
 
 
 @pytest.mark.parametrize(
-    ("skeleton", "num_joints"), [(SMPL24, 24), (CMU_MOCAP20, 20), (UESTC18, 18), (NTU25, 25)], ids=["smpl", "cmu", "uestc", "ntu"]
+    ("skeleton", "num_joints"),
+    [(SMPL24, 24), (CMU_MOCAP20, 20), (UESTC18, 18), (NTU25, 25)],
+    ids=["smpl", "cmu", "uestc", "ntu"],
 )
 def test_skeletons_have_the_right_joint_counts(skeleton, num_joints):
     assert skeleton.num_joints == len(skeleton.parents) == len(skeleton.joint_names) == num_joints

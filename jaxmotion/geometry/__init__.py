@@ -1,0 +1,44 @@
+"""Geometry: rotation conversions, kinematic trees, forward kinematics and the SMPL-format body layer.
+
+Library frame: metres, +Y up, the subject faces +Z at rest, +X is the subject's left (SMPL's frame).
+Rotations act on column vectors; quaternions are (w, x, y, z); 6D is the first two matrix rows (ACTOR).
+"""
+
+from jaxmotion.geometry.body import BodyModel, body_forward, body_forward_rotmats, load_body_model, save_body_model
+from jaxmotion.geometry.kinematics import (
+    bone_lengths,
+    canonicalize,
+    canonicalize_transform,
+    forward_kinematics,
+    forward_kinematics_transforms,
+    humanact12_to_library_frame,
+    library_to_humanact12_frame,
+    root_relative,
+    root_trajectory,
+    transform_root,
+)
+from jaxmotion.geometry.rotations import (
+    REPRESENTATIONS,
+    axis_angle_to_matrix,
+    axis_angle_to_quaternion,
+    from_matrix,
+    matrix_to_axis_angle,
+    matrix_to_quaternion,
+    matrix_to_rot6d,
+    quaternion_to_axis_angle,
+    quaternion_to_matrix,
+    rot6d_to_matrix,
+    to_matrix,
+)
+from jaxmotion.geometry.skeletons import CMU_MOCAP20, NTU25, SMPL24, UESTC18, VIBE18, Skeleton, bones, topological_order
+
+__all__ = [
+    "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model",
+    "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",
+    "forward_kinematics_transforms", "humanact12_to_library_frame", "library_to_humanact12_frame",
+    "root_relative", "root_trajectory", "transform_root",
+    "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "from_matrix",
+    "matrix_to_axis_angle", "matrix_to_quaternion", "matrix_to_rot6d", "quaternion_to_axis_angle",
+    "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",
+    "CMU_MOCAP20", "NTU25", "SMPL24", "UESTC18", "VIBE18", "Skeleton", "bones", "topological_order",
+]

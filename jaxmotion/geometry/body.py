@@ -93,23 +93,41 @@ def _densify(value: Any) -> Any:
     return value.toarray() if scipy.sparse.issparse(value) else value
 
 
-def _field(raw: Mapping[str, Any], name: str, rank: int, kinds: str, source: str) -> np.ndarray:
+# Axis names of each file field, for the rank check and the error messages.
+_AXES = {
+    "v_template": ("V", "3"),
+    "shapedirs": ("V", "3", "S"),
+    "posedirs": ("V", "3", "9*(J-1)"),
+    "J_regressor": ("J", "V"),
+    "weights": ("V", "J"),
+    "kintree_table": ("2", "J"),
+    "f": ("F", "3"),
+}
+
+
+def _axes(name: str) -> str:
+    return f"[{', '.join(_AXES[name])}]"
+
+
+def _field(raw: Mapping[str, Any], name: str, kinds: str, source: str) -> np.ndarray:
     if name not in raw:
-        raise ValueError(f"{source}: missing field {name!r} (present: {sorted(raw)})")
+        raise ValueError(f"{source}: missing field {name!r} {_axes(name)} (present: {sorted(raw)})")
     try:
         arr = np.asarray(_densify(raw[name]))
     except Exception as e:  # e.g. an object that numpy cannot convert
         raise ValueError(f"{source}: field {name!r} cannot be converted to an array: {e}") from e
     if arr.dtype.kind not in kinds:
-        raise ValueError(f"{source}: field {name!r} has non-numeric or wrong dtype {arr.dtype}")
-    if arr.ndim != rank:
-        raise ValueError(f"{source}: field {name!r} has rank {arr.ndim} (shape {arr.shape}); expected rank {rank}")
+        wanted = "an integer" if kinds == "iu" else "a numeric"
+        raise ValueError(f"{source}: field {name!r} has dtype {arr.dtype}; expected {wanted} array {_axes(name)}")
+    if arr.ndim != len(_AXES[name]):
+        rank = len(_AXES[name])
+        raise ValueError(f"{source}: field {name!r} has shape {arr.shape}; expected rank {rank}, {_axes(name)}")
     return arr
 
 
-def _check_shape(source: str, name: str, arr: np.ndarray, expected: tuple[int, ...], axes: str) -> None:
+def _check_shape(source: str, name: str, arr: np.ndarray, expected: tuple[int, ...]) -> None:
     if arr.shape != expected:
-        raise ValueError(f"{source}: field {name!r} has shape {arr.shape}; expected {axes} = {expected}")
+        raise ValueError(f"{source}: field {name!r} has shape {arr.shape}; expected {_axes(name)} = {expected}")
 
 
 def _parents_from_kintree(kintree: np.ndarray, source: str) -> tuple[int, ...]:
@@ -131,22 +149,20 @@ def _parents_from_kintree(kintree: np.ndarray, source: str) -> tuple[int, ...]:
 def _validate(raw: Mapping[str, Any], source: str) -> dict[str, np.ndarray]:
     """Checks the SMPL-format fields of ``raw``; returns them as numpy arrays (file field names)."""
     real, integer = "iuf", "iu"
-    kintree = _field(raw, "kintree_table", 2, integer, source)
-    if kintree.shape[0] != 2:
-        raise ValueError(f"{source}: field 'kintree_table' has shape {kintree.shape}; expected [2, J]")
-    parents = _parents_from_kintree(kintree, source)
-    num_joints = len(parents)
-    v_template = _field(raw, "v_template", 2, real, source)
+    kintree = _field(raw, "kintree_table", integer, source)
+    _check_shape(source, "kintree_table", kintree, (2, kintree.shape[1]))
+    num_joints = len(_parents_from_kintree(kintree, source))
+    v_template = _field(raw, "v_template", real, source)
     num_vertices = v_template.shape[0]
-    _check_shape(source, "v_template", v_template, (num_vertices, 3), "[V, 3]")
-    shapedirs = _field(raw, "shapedirs", 3, real, source)
-    _check_shape(source, "shapedirs", shapedirs, (num_vertices, 3, shapedirs.shape[2]), "[V, 3, S]")
-    posedirs = _field(raw, "posedirs", 3, real, source)
-    _check_shape(source, "posedirs", posedirs, (num_vertices, 3, 9 * (num_joints - 1)), "[V, 3, 9*(J-1)]")
-    regressor = _field(raw, "J_regressor", 2, real, source)
-    _check_shape(source, "J_regressor", regressor, (num_joints, num_vertices), "[J, V]")
-    weights = _field(raw, "weights", 2, real, source)
-    _check_shape(source, "weights", weights, (num_vertices, num_joints), "[V, J]")
+    _check_shape(source, "v_template", v_template, (num_vertices, 3))
+    shapedirs = _field(raw, "shapedirs", real, source)
+    _check_shape(source, "shapedirs", shapedirs, (num_vertices, 3, shapedirs.shape[2]))
+    posedirs = _field(raw, "posedirs", real, source)
+    _check_shape(source, "posedirs", posedirs, (num_vertices, 3, 9 * (num_joints - 1)))
+    regressor = _field(raw, "J_regressor", real, source)
+    _check_shape(source, "J_regressor", regressor, (num_joints, num_vertices))
+    weights = _field(raw, "weights", real, source)
+    _check_shape(source, "weights", weights, (num_vertices, num_joints))
     fields = {
         "v_template": v_template,
         "shapedirs": shapedirs,
@@ -156,8 +172,8 @@ def _validate(raw: Mapping[str, Any], source: str) -> dict[str, np.ndarray]:
         "kintree_table": kintree,
     }
     if "f" in raw:
-        faces = _field(raw, "f", 2, integer, source)
-        _check_shape(source, "f", faces, (faces.shape[0], 3), "[F, 3]")
+        faces = _field(raw, "f", integer, source)
+        _check_shape(source, "f", faces, (faces.shape[0], 3))
         fields["f"] = faces
     return fields
 
@@ -196,8 +212,8 @@ def load_body_model(path: str | Path) -> BodyModel:
         try:
             with np.load(path, allow_pickle=False) as npz:
                 raw = {key: npz[key] for key in npz.files}
-        except ValueError as e:  # object arrays, which allow_pickle=False refuses
-            raise ValueError(f"{path}: cannot read as a plain-array .npz: {e}") from e
+        except Exception as e:  # a corrupt archive, or object arrays (refused: they would unpickle code)
+            raise ValueError(f"{path}: cannot read as a plain-array .npz ({type(e).__name__}: {e})") from e
     elif suffix == ".pkl":
         raw = _read_pickle(path)
         if not isinstance(raw, Mapping):
@@ -257,6 +273,7 @@ def body_forward_rotmats(
       vertices [..., V, 3] and joints [..., J, 3], both in world coordinates (not root-centred).
     """
     num_joints = model.num_joints
+    rotmats = jnp.asarray(rotmats)
     if rotmats.shape[-3:] != (num_joints, 3, 3):
         raise ValueError(f"rotmats must have shape [..., {num_joints}, 3, 3]; got {rotmats.shape}")
     betas = jnp.zeros((0,), rotmats.dtype) if betas is None else jnp.asarray(betas)

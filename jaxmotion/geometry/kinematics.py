@@ -35,9 +35,10 @@ def _pose_transforms(
 ) -> tuple[jax.Array, jax.Array]:
     """FK of one pose: ``[J, 3, 3], [3], [J, 3] -> ([J, 3, 3] global rotations, [J, 3] positions)``.
 
-    One chained product per joint, in topological order. Measured on CPU against processing all joints
-    of a tree depth at once (gather + batched matmul + scatter): the per-joint chain is about 3x faster at
-    1 200 poses, because XLA fuses it without the scatters.
+    One chained product per joint, in topological order. Measured on a 2-core CPU at 1 200 SMPL poses,
+    this beat processing all joints of a tree depth at once (gather + batched matmul: 1.3-3x slower,
+    depending on how levels are reassembled) and a ``lax.scan`` over joints (4x slower, though it
+    compiles 4x faster).
     """
     num_joints = len(parents)
     rotations: list[jax.Array | None] = [None] * num_joints
@@ -82,11 +83,10 @@ def forward_kinematics_transforms(
         raise _shape_error("root_translation", str([*batch, 3]), root_translation.shape)
     body_shape = offsets.shape[:-2]
     if offsets.ndim < 2 or offsets.shape[-2:] != (num_joints, 3) or body_shape != batch[: len(body_shape)]:
-        raise _shape_error(
-            "offsets", f"[{num_joints}, 3] or [*B, {num_joints}, 3] with B a prefix of {list(batch)}", offsets.shape
-        )
+        expected = f"[{num_joints}, 3] or [*B, {num_joints}, 3] with B a prefix of {list(batch)}"
+        raise _shape_error("offsets", expected, offsets.shape)
 
-    # Flatten to [bodies, frames, ...] so one code path serves shared ([J, 3], one body) and per-body offsets.
+    # Flatten to [bodies, frames, ...]: one code path for shared ([J, 3]: one body) and per-body offsets.
     num_bodies, num_frames = math.prod(body_shape), math.prod(batch[len(body_shape) :])
     pose = functools.partial(_pose_transforms, parents=parents)
     frames = jax.vmap(pose, in_axes=(0, 0, None))
@@ -102,7 +102,7 @@ def forward_kinematics_transforms(
 def forward_kinematics(
     local_rotmats: jax.Array, root_translation: jax.Array, offsets: jax.Array, parents: tuple[int, ...]
 ) -> jax.Array:
-    """Joint positions ``[..., J, 3]`` from local rotations; arguments as :func:`forward_kinematics_transforms`.
+    """Joint positions ``[..., J, 3]``; the arguments are those of :func:`forward_kinematics_transforms`.
 
     Jit-compiled with ``parents`` static; the unused leaf rotations are dropped by the compiler.
     """
@@ -110,7 +110,12 @@ def forward_kinematics(
 
 
 def _check_points(name: str, array: jax.Array, expected: str, min_ndim: int, num_joints: int | None = None):
-    if array.ndim < min_ndim or array.shape[-1] != 3 or (num_joints is not None and array.shape[-2] != num_joints):
+    """Require ``array`` to be ``[..., 3]`` with at least ``min_ndim`` axes (and ``num_joints`` on axis -2)."""
+    if (
+        array.ndim < min_ndim
+        or array.shape[-1] != 3
+        or (num_joints is not None and array.shape[-2] != num_joints)
+    ):
         raise _shape_error(name, expected, array.shape)
 
 
@@ -161,7 +166,8 @@ def canonicalize_transform(
     num_joints = joints.shape[-2]
     if not (0 <= left_hip < num_joints and 0 <= right_hip < num_joints and left_hip != right_hip):
         raise ValueError(
-            f"left_hip, right_hip: expected two distinct joint indices in [0, {num_joints}), got {left_hip}, {right_hip}"
+            f"left_hip, right_hip: expected two distinct joint indices in [0, {num_joints}), "
+            f"got {left_hip}, {right_hip}"
         )
     if up_axis not in (0, 1, 2):
         raise ValueError(f"up_axis: expected 0, 1 or 2, got {up_axis}")
@@ -170,8 +176,8 @@ def canonicalize_transform(
     forward = jnp.cross(first[..., left_hip, :] - first[..., right_hip, :], up)
     forward = forward / jnp.linalg.norm(forward, axis=-1, keepdims=True)
     left = jnp.cross(up, forward)
-    rows = {(up_axis + 2) % 3: left, up_axis: jnp.broadcast_to(up, forward.shape), (up_axis + 1) % 3: forward}
     # Rows are the new axes expressed in the old frame, so R maps forward to the forward axis, etc.
+    rows = {(up_axis + 2) % 3: left, up_axis: jnp.broadcast_to(up, forward.shape), (up_axis + 1) % 3: forward}
     rotation = jnp.stack([rows[axis] for axis in range(3)], axis=-2)
     translation = -_matmul(rotation, first[..., 0, :, None])[..., 0]
     return rotation, translation
@@ -183,7 +189,8 @@ def canonicalize(joints: jax.Array, left_hip: int, right_hip: int, up_axis: int 
     See :func:`canonicalize_transform` for the arguments.
     """
     rotation, translation = canonicalize_transform(joints, left_hip, right_hip, up_axis)
-    return jnp.einsum("...ij,...tkj->...tki", rotation, joints, precision="highest") + translation[..., None, None, :]
+    rotated = jnp.einsum("...ij,...tkj->...tki", rotation, joints, precision=jax.lax.Precision.HIGHEST)
+    return rotated + translation[..., None, None, :]
 
 
 def transform_root(
@@ -210,13 +217,13 @@ def transform_root(
     batch = rotation.shape[:-2]
     if translation.shape != (*batch, 3):
         raise _shape_error("translation", str([*batch, 3]), translation.shape)
-    if root_rotmats.ndim != len(batch) + 3 or root_rotmats.shape[:-3] != batch or root_rotmats.shape[-2:] != (3, 3):
+    if root_rotmats.shape[: len(batch)] != batch or root_rotmats.shape[len(batch) + 1 :] != (3, 3):
         raise _shape_error("root_rotmats", str([*batch, "T", 3, 3]), root_rotmats.shape)
     if root_translation.shape != root_rotmats.shape[:-1]:
         raise _shape_error("root_translation", str(list(root_rotmats.shape[:-1])), root_translation.shape)
-    new_rotmats = _matmul(rotation[..., None, :, :], root_rotmats)
-    new_translation = _matmul(rotation[..., None, :, :], root_translation[..., None])[..., 0] + translation[..., None, :]
-    return new_rotmats, new_translation
+    per_frame = rotation[..., None, :, :]  # the same R for every frame
+    new_translation = _matmul(per_frame, root_translation[..., None])[..., 0] + translation[..., None, :]
+    return _matmul(per_frame, root_rotmats), new_translation
 
 
 def library_to_humanact12_frame(points: jax.Array) -> jax.Array:

@@ -19,6 +19,7 @@ gradients finite at angle 0 and at pi (double-where + Taylor branches; matrix ->
 best-conditioned of four candidates). The input dtype is preserved.
 """
 
+import functools
 from types import MappingProxyType
 
 import jax.numpy as jnp
@@ -37,7 +38,7 @@ __all__ = [
     "to_matrix",
 ]
 
-# Trailing shape of each representation (model configs derive feature sizes from it).
+# Trailing shape of each representation (model configs derive feature sizes from it); read-only.
 REPRESENTATIONS = MappingProxyType(
     {"axis_angle": (3,), "quaternion": (4,), "matrix": (3, 3), "rot6d": (6,)}
 )
@@ -121,9 +122,10 @@ def quaternion_to_matrix(quaternion):
 def matrix_to_quaternion(matrix):
     """[..., 3, 3] -> [..., 4] unit quaternion (w, x, y, z) with w >= 0.
 
-    Each row of ``cand`` is 4 * (one component) * q; the row whose diagonal entry (4 * component^2)
-    is largest is divided by 2 sqrt(diagonal) >= 1 for a rotation, so values and gradients stay
-    finite everywhere, 180 degrees included. Only the selected diagonal is square-rooted.
+    Row i of ``cand`` is 4 q_i q (diagonal entry d_i = 4 q_i^2). The row with the largest d_i is
+    divided by 2 sqrt(d_i), which is >= 2 for a rotation (the d_i sum to 4), so values and gradients
+    stay finite everywhere, 180 degrees included. Only the selected d_i is square-rooted: a sqrt of
+    an unselected d_i = 0 would give an inf derivative and hence NaN gradients.
     """
     m = _checked(matrix, (3, 3), "matrix_to_quaternion", "matrix")
     m00, m01, m02 = m[..., 0, 0], m[..., 0, 1], m[..., 0, 2]
@@ -195,21 +197,16 @@ def rot6d_to_matrix(rot6d):
     return jnp.stack([b1, b2, b3], axis=-2)
 
 
-def _identity_matrix(matrix):
-    """[..., 3, 3] -> [..., 3, 3] unchanged (shape-checked): the "matrix" representation."""
-    return _checked(matrix, (3, 3), "to_matrix/from_matrix", "matrix")
-
-
 _TO_MATRIX = {
     "axis_angle": axis_angle_to_matrix,
     "quaternion": quaternion_to_matrix,
-    "matrix": _identity_matrix,
+    "matrix": functools.partial(_checked, shape=(3, 3), fn="to_matrix", arg="matrix"),  # identity
     "rot6d": rot6d_to_matrix,
 }
 _FROM_MATRIX = {
     "axis_angle": matrix_to_axis_angle,
     "quaternion": matrix_to_quaternion,
-    "matrix": _identity_matrix,
+    "matrix": functools.partial(_checked, shape=(3, 3), fn="from_matrix", arg="matrix"),  # identity
     "rot6d": matrix_to_rot6d,
 }
 

@@ -60,8 +60,8 @@ class Skeleton:
       joint_names: one unique name per joint.
       parents: parent index per joint, ``-1`` for the root (joint 0); any order that forms a tree.
       offsets: ``[J, 3]`` float32 rest vectors from parent to child in the parent's rest frame (metres,
-        library frame; the root's row is zero), or ``None`` for skeletons only used as joint layouts.
-        Stored read-only.
+        library frame; FK ignores the root row, zero in the templates), or ``None`` for skeletons used only
+        as joint layouts. Stored read-only.
 
     ``eq=False`` keeps identity equality and hashing: a numpy field has no usable ``==``/hash, and jitted
     code takes the hashable ``skeleton.parents`` tuple as its static argument, not the skeleton.
@@ -100,7 +100,10 @@ class Skeleton:
     @property
     def children(self) -> tuple[tuple[int, ...], ...]:
         """Children of each joint, in joint order."""
-        return tuple(tuple(c for c, p in enumerate(self.parents) if p == joint) for joint in range(self.num_joints))
+        return tuple(
+            tuple(child for child, parent in enumerate(self.parents) if parent == joint)
+            for joint in range(self.num_joints)
+        )
 
     @property
     def bones(self) -> tuple[tuple[int, int], ...]:
@@ -108,7 +111,7 @@ class Skeleton:
         return bones(self.parents)
 
     def index(self, joint_name: str) -> int:
-        """Index of a joint by name (e.g. the hip indices :func:`~jaxmotion.geometry.kinematics.canonicalize` needs)."""
+        """Index of a joint by name, e.g. the hips that :func:`jaxmotion.geometry.kinematics.canonicalize` takes."""
         try:
             return self.joint_names.index(joint_name)
         except ValueError:
