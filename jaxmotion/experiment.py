@@ -93,6 +93,7 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
             return json.loads(metrics_path.read_text())
     else:
         config_path.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
+    print(f"[{name}] {profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
     metrics = {"rows": {row: {col: _cell_json(v) for col, v in cells.items()} for row, cells in rows.items()}}
     (ctx.workdir / "table.md").write_text(format_table(_table_cells(metrics), title=f"{name} ({profile}, seed {seed})"))

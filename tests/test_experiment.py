@@ -133,6 +133,7 @@ def test_killed_run_resumes_bitwise_equal(tmp_path):
     resumed = subprocess.run([sys.executable, str(TOY), "--out", str(broken), *args], check=True, env=env,
                              capture_output=True, text=True)
     # The resumed process starts at the checkpoint: it never reports a step at or before it.
+    assert f"resuming from the checkpoint at step {killed_at}" in resumed.stderr
     reported = [int(line.split()[1].split("/")[0]) for line in resumed.stderr.splitlines() if line.startswith("step ")]
     assert reported and min(reported) > killed_at
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, Protocol
@@ -75,6 +76,7 @@ def train(
     try:
         if ckpt is not None and ckpt.latest_step() is not None:
             state = ckpt.restore(state)
+            print(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}", file=sys.stderr)
         start = int(state.step)
         if log_path is not None:
             _truncate_log(log_path, start)
