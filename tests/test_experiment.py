@@ -22,7 +22,7 @@ TOY = Path(__file__).with_name("toy_experiment.py")
 REPO = Path(__file__).resolve().parents[1]
 
 
-def _run_toy(out, *args, capsys=None):
+def _run_toy(out, *args):
     return toy_experiment.main(["--profile", "smoke", "--out", str(out), *args])
 
 

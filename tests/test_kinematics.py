@@ -9,7 +9,6 @@ Compilation dominates the run time on a CPU (about a second per skeleton for FK)
     than one per operation, which also checks that they are jittable).
 """
 
-import functools
 import math
 import re
 
