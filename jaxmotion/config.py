@@ -131,7 +131,7 @@ def _parse_raw(raw: str, tp: Any) -> Any:
     if target is str or typing.get_origin(target) is Literal and all(isinstance(a, str) for a in typing.get_args(target)):
         return raw
     try:
-        return json.loads(raw.replace("True", "true").replace("False", "false"))
+        return json.loads({"True": "true", "False": "false"}.get(raw, raw))
     except json.JSONDecodeError:
         return raw
 

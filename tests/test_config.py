@@ -80,3 +80,8 @@ def test_unsupported_field_type_is_rejected():
 
     with pytest.raises(cfglib.ConfigError, match="unsupported config field type"):
         cfglib.to_dict(Bad())
+
+
+def test_python_style_booleans_are_accepted():
+    assert cfglib.apply_overrides(Outer(), ["flag=True"]).flag is True
+    assert cfglib.apply_overrides(Outer(flag=True), ["flag=False"]).flag is False
