@@ -1,0 +1,223 @@
+"""Motion records and packed motion datasets: the one data model every loader and generator returns.
+
+A ``Motion`` is one variable-length sequence. A ``MotionDataset`` stores many of them packed: each
+per-frame array is the concatenation of all sequences along the frame axis, and ``starts`` marks where
+each sequence begins, so a dataset is a handful of arrays (cheap to cache as ``.npz``, to move to a
+device, and to gather fixed-length windows from).
+
+Axes: N sequences, F frames in all (the sum of the lengths), T frames of one sequence, J joints.
+Frame: the library frame (metres, +Y up, facing +Z at rest, +X the subject's left).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from jaxmotion.geometry.skeletons import CMU_MOCAP20, NTU25, SMPL24, UESTC18, Skeleton
+
+#: Joint layouts a dataset may use, by the name stored in cache files.
+SKELETONS = {s.name: s for s in (SMPL24, CMU_MOCAP20, UESTC18, NTU25)}
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Motion:
+    """One sequence.
+
+    Attributes:
+      joints: ``[T, J, 3]`` float32 joint positions, library frame, metres (translation included).
+      translation: ``[T, 3]`` float32 root (joint 0) translation.
+      rotations: ``[T, J, 3]`` float32 local axis-angle rotations (joint 0 global), or ``None`` for formats
+        that store joint positions only (Action2Motion's HumanAct12 and CMU mocap joints).
+      action: class index.
+      mode: index of the style mode within the class (``-1`` where unknown, as in real data).
+      subject: subject index (``-1`` where unknown).
+      name: the clip's name in its source (file name, key), or a generated id.
+    """
+
+    joints: np.ndarray
+    translation: np.ndarray
+    rotations: np.ndarray | None
+    action: int
+    mode: int = -1
+    subject: int = -1
+    name: str = ""
+
+    @property
+    def num_frames(self) -> int:
+        return self.joints.shape[0]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class MotionDataset:
+    """Packed sequences of one dataset split.
+
+    Attributes:
+      name: dataset name (e.g. ``synth-uestc``, ``uestc``).
+      split: ``train`` / ``test`` / ``all``.
+      class_names: one name per action class; ``actions`` index into it.
+      skeleton: the joint layout of ``joints`` (and of ``rotations`` when present).
+      fps: frames per second.
+      joints: ``[F, J, 3]`` float32.
+      translation: ``[F, 3]`` float32.
+      rotations: ``[F, J, 3]`` float32 axis-angle, or ``None``.
+      starts: ``[N + 1]`` int64 frame offsets; sequence i is frames ``starts[i]:starts[i + 1]``.
+      actions, modes, subjects: ``[N]`` int32 labels (``-1`` where unknown).
+      names: ``N`` clip names.
+      mode_names: per class, the names of its style modes (empty tuples where unknown).
+    """
+
+    name: str
+    split: str
+    class_names: tuple[str, ...]
+    skeleton: Skeleton
+    fps: float
+    joints: np.ndarray
+    translation: np.ndarray
+    rotations: np.ndarray | None
+    starts: np.ndarray
+    actions: np.ndarray
+    modes: np.ndarray
+    subjects: np.ndarray
+    names: tuple[str, ...]
+    mode_names: tuple[tuple[str, ...], ...] = ()
+
+    def __post_init__(self):
+        n, f, j = len(self.actions), self.joints.shape[0], self.skeleton.num_joints
+        _expect(self.joints, (f, j, 3), "joints", f"[F, {j}, 3]")
+        _expect(self.translation, (f, 3), "translation", "[F, 3]")
+        if self.rotations is not None:
+            _expect(self.rotations, (f, j, 3), "rotations", f"[F, {j}, 3]")
+        _expect(self.starts, (n + 1,), "starts", "[N + 1]")
+        for field in ("actions", "modes", "subjects"):
+            _expect(getattr(self, field), (n,), field, "[N]")
+        if len(self.names) != n:
+            raise ValueError(f"names: expected {n} names, got {len(self.names)}")
+        if n and (self.starts[0] != 0 or self.starts[-1] != f or np.any(np.diff(self.starts) < 1)):
+            raise ValueError(f"starts: expected increasing offsets from 0 to F={f}, got {self.starts[:5]}...")
+        if n and (self.actions.min() < 0 or self.actions.max() >= len(self.class_names)):
+            raise ValueError(f"actions: expected class indices in [0, {len(self.class_names)}), "
+                             f"got [{self.actions.min()}, {self.actions.max()}]")
+        if self.mode_names and len(self.mode_names) != len(self.class_names):
+            raise ValueError(f"mode_names: expected one tuple per class ({len(self.class_names)}), "
+                             f"got {len(self.mode_names)}")
+
+    # --- sequence access ---------------------------------------------------------------------------
+
+    def __len__(self) -> int:
+        return len(self.actions)
+
+    def __getitem__(self, index: int) -> Motion:
+        if not -len(self) <= index < len(self):
+            raise IndexError(f"{self.name}/{self.split}: index {index} out of range for {len(self)} sequences")
+        index %= len(self)
+        frames = slice(int(self.starts[index]), int(self.starts[index + 1]))
+        return Motion(
+            joints=self.joints[frames],
+            translation=self.translation[frames],
+            rotations=None if self.rotations is None else self.rotations[frames],
+            action=int(self.actions[index]),
+            mode=int(self.modes[index]),
+            subject=int(self.subjects[index]),
+            name=self.names[index],
+        )
+
+    def __iter__(self) -> Iterator[Motion]:
+        return (self[i] for i in range(len(self)))
+
+    @property
+    def lengths(self) -> np.ndarray:
+        """``[N]`` int64 number of frames of each sequence."""
+        return np.diff(self.starts)
+
+    @property
+    def num_classes(self) -> int:
+        return len(self.class_names)
+
+    def subset(self, indices: Sequence[int] | np.ndarray, split: str | None = None) -> "MotionDataset":
+        """The sequences at ``indices``, in that order, as a new packed dataset."""
+        indices = np.asarray(indices, dtype=np.int64)
+        frames = np.concatenate([np.arange(self.starts[i], self.starts[i + 1]) for i in indices]) if len(
+            indices) else np.zeros((0,), np.int64)
+        lengths = self.lengths[indices]
+        return dataclasses.replace(
+            self,
+            split=self.split if split is None else split,
+            joints=self.joints[frames],
+            translation=self.translation[frames],
+            rotations=None if self.rotations is None else self.rotations[frames],
+            starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
+            actions=self.actions[indices],
+            modes=self.modes[indices],
+            subjects=self.subjects[indices],
+            names=tuple(self.names[i] for i in indices),
+        )
+
+    # --- persistence ---------------------------------------------------------------------------------
+
+    def save(self, path: str | Path) -> None:
+        """Write the dataset to one ``.npz`` (arrays plus a JSON header); ``load`` reads it back."""
+        header = {
+            "name": self.name, "split": self.split, "class_names": list(self.class_names),
+            "skeleton": self.skeleton.name, "fps": self.fps, "names": list(self.names),
+            "mode_names": [list(m) for m in self.mode_names],
+        }
+        arrays = {k: getattr(self, k) for k in ("joints", "translation", "starts", "actions", "modes", "subjects")}
+        if self.rotations is not None:
+            arrays["rotations"] = self.rotations
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez(tmp, header=np.array(json.dumps(header)), **arrays)
+        tmp.replace(path)  # atomic: a killed generation never leaves a half-written cache
+
+    @classmethod
+    def load(cls, path: str | Path) -> "MotionDataset":
+        with np.load(path, allow_pickle=False) as data:
+            header = json.loads(str(data["header"]))
+            arrays = {k: data[k] for k in data.files if k != "header"}
+        if header["skeleton"] not in SKELETONS:
+            raise ValueError(f"{path}: unknown skeleton {header['skeleton']!r}; known: {sorted(SKELETONS)}")
+        return cls(
+            name=header["name"], split=header["split"], class_names=tuple(header["class_names"]),
+            skeleton=SKELETONS[header["skeleton"]], fps=float(header["fps"]),
+            joints=arrays["joints"], translation=arrays["translation"], rotations=arrays.get("rotations"),
+            starts=arrays["starts"], actions=arrays["actions"], modes=arrays["modes"], subjects=arrays["subjects"],
+            names=tuple(header["names"]), mode_names=tuple(tuple(m) for m in header["mode_names"]),
+        )
+
+
+def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Sequence[str], skeleton: Skeleton,
+         fps: float, mode_names: Sequence[Sequence[str]] = ()) -> MotionDataset:
+    """Pack a list of ``Motion`` records (all with or all without rotations) into a dataset."""
+    has_rot = {m.rotations is not None for m in motions}
+    if len(has_rot) > 1:
+        raise ValueError("pack: either every motion has rotations or none has")
+    lengths = [m.num_frames for m in motions]
+    j = skeleton.num_joints
+
+    def cat(arrays, shape):
+        return np.concatenate(arrays).astype(np.float32) if arrays else np.zeros((0, *shape), np.float32)
+
+    return MotionDataset(
+        name=name, split=split, class_names=tuple(class_names), skeleton=skeleton, fps=float(fps),
+        joints=cat([m.joints for m in motions], (j, 3)),
+        translation=cat([m.translation for m in motions], (3,)),
+        rotations=cat([m.rotations for m in motions], (j, 3)) if has_rot == {True} else None,
+        starts=np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64),
+        actions=np.array([m.action for m in motions], np.int32),
+        modes=np.array([m.mode for m in motions], np.int32),
+        subjects=np.array([m.subject for m in motions], np.int32),
+        names=tuple(m.name for m in motions),
+        mode_names=tuple(tuple(m) for m in mode_names),
+    )
+
+
+def _expect(array: np.ndarray, shape: tuple[int, ...], field: str, named: str) -> None:
+    if not isinstance(array, np.ndarray) or array.shape != shape:
+        got = getattr(array, "shape", type(array).__name__)
+        raise ValueError(f"{field}: expected shape {named} = {shape}, got {got}")

@@ -1,0 +1,73 @@
+"""The packed motion dataset: indexing, subsets, persistence and validation."""
+
+import numpy as np
+import pytest
+
+from jaxmotion.data import Motion, MotionDataset, pack
+from jaxmotion.geometry import SMPL24
+
+
+def _motions(lengths, rotations=True):
+    rng = np.random.default_rng(0)
+    return [
+        Motion(joints=rng.normal(size=(t, 24, 3)).astype(np.float32),
+               translation=rng.normal(size=(t, 3)).astype(np.float32),
+               rotations=rng.normal(size=(t, 24, 3)).astype(np.float32) if rotations else None,
+               action=i % 3, mode=i % 2, subject=i, name=f"clip{i}")
+        for i, t in enumerate(lengths)
+    ]
+
+
+def _dataset(lengths=(5, 7, 3, 9), rotations=True):
+    return pack(_motions(lengths, rotations), name="toy", split="train", class_names=("a", "b", "c"),
+                skeleton=SMPL24, fps=20, mode_names=(("l", "r"),) * 3)
+
+
+def test_pack_then_index_returns_each_motion():
+    motions = _motions((5, 7, 3, 9))
+    data = _dataset()
+    assert len(data) == 4 and list(data.lengths) == [5, 7, 3, 9]
+    for original, back in zip(motions, data, strict=True):
+        np.testing.assert_array_equal(original.joints, back.joints)
+        np.testing.assert_array_equal(original.rotations, back.rotations)
+        assert (original.action, original.mode, original.subject, original.name) == (
+            back.action, back.mode, back.subject, back.name)
+    assert data[-1].name == "clip3"
+    with pytest.raises(IndexError, match="out of range for 4"):
+        data[4]
+
+
+def test_subset_keeps_order_and_content():
+    data = _dataset()
+    sub = data.subset([3, 1], split="test")
+    assert sub.split == "test" and list(sub.lengths) == [9, 7] and sub.names == ("clip3", "clip1")
+    np.testing.assert_array_equal(sub[0].joints, data[3].joints)
+
+
+@pytest.mark.parametrize("rotations", [True, False])
+def test_save_load_round_trip_is_exact(tmp_path, rotations):
+    data = _dataset(rotations=rotations)
+    data.save(tmp_path / "d.npz")
+    back = MotionDataset.load(tmp_path / "d.npz")
+    assert (back.name, back.split, back.class_names, back.fps, back.names, back.mode_names) == (
+        data.name, data.split, data.class_names, data.fps, data.names, data.mode_names)
+    assert back.skeleton is SMPL24
+    for field in ("joints", "translation", "starts", "actions", "modes", "subjects"):
+        np.testing.assert_array_equal(getattr(back, field), getattr(data, field))
+    assert (back.rotations is None) == (not rotations)
+    assert not list(tmp_path.glob("*.tmp.npz"))
+
+
+def test_malformed_datasets_name_the_field():
+    data = _dataset()
+    import dataclasses
+
+    with pytest.raises(ValueError, match=r"translation: expected shape \[F, 3\]"):
+        dataclasses.replace(data, translation=data.translation[:-1])
+    with pytest.raises(ValueError, match=r"actions: expected class indices in \[0, 3\)"):
+        dataclasses.replace(data, actions=np.array([0, 1, 2, 3], np.int32))
+    with pytest.raises(ValueError, match="starts: expected increasing offsets"):
+        dataclasses.replace(data, starts=np.array([0, 5, 5, 15, 24]))
+    with pytest.raises(ValueError, match="either every motion has rotations or none"):
+        pack(_motions((3,)) + _motions((3,), rotations=False), name="x", split="all", class_names=("a",),
+             skeleton=SMPL24, fps=20)
