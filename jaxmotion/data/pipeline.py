@@ -1,0 +1,255 @@
+"""From a packed ``MotionDataset`` to fixed-shape training batches, on device, with explicit keys.
+
+Every function here is pure and jittable; randomness enters as a key. The batch of step ``n`` is a
+function of ``(key, n)`` only (``make_batch_fn``), which is what the training loop needs for a resumed
+run to see exactly the batches an uninterrupted one would.
+
+Windows are gathered from the packed frame arrays with one index array: a frame index past the end of
+a sequence is clipped to its last frame, so "pad by repeating the last frame" (ACTOR, Action2Motion,
+ODMO) is the clip itself, and ActFormer's "snake" padding (0..n-1, n-2..1, 0..) is a reflection of the
+index. A mask marks the real frames.
+
+Axes: N sequences, F packed frames, B batch, T window, J joints, C channels.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from typing import Literal
+
+import jax
+import jax.numpy as jnp
+
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
+from jaxmotion.geometry.rotations import (
+    REPRESENTATIONS,
+    axis_angle_to_matrix,
+    from_matrix,
+    matrix_to_axis_angle,
+    to_matrix,
+)
+
+Sampling = Literal["epoch", "uniform", "balanced", "sqrt"]
+Padding = Literal["last", "snake"]
+_HIGHEST = jax.lax.Precision.HIGHEST
+
+
+# --- which sequences -------------------------------------------------------------------------------
+
+
+def sequence_weights(actions: jax.Array, num_classes: int, scheme: Sampling) -> jax.Array:
+    """Probability of drawing each sequence: ``[N] -> [N]``, summing to 1.
+
+    ``uniform``/``epoch``: every sequence alike (classes by frequency). ``balanced``: every class alike
+    (stratified; ODMO's class weights). ``sqrt``: class mass proportional to the square root of its count
+    (ActFormer's BABEL resampling).
+    """
+    counts = jnp.bincount(actions, length=num_classes).astype(jnp.float32)
+    if scheme in ("uniform", "epoch"):
+        per_class = counts
+    elif scheme == "balanced":
+        per_class = (counts > 0).astype(jnp.float32)
+    elif scheme == "sqrt":
+        per_class = jnp.sqrt(counts)
+    else:
+        raise ValueError(f"scheme: expected one of uniform, epoch, balanced, sqrt; got {scheme!r}")
+    # Each sequence gets its class's mass shared among the class's sequences.
+    weights = (per_class / jnp.maximum(counts, 1.0))[actions]
+    return weights / jnp.sum(weights)
+
+
+def sample_sequences(key: jax.Array, weights: jax.Array, batch_size: int) -> jax.Array:
+    """``batch_size`` sequence indices drawn with replacement from ``weights [N]``: ``[B]`` int32."""
+    return jax.random.choice(key, weights.shape[0], (batch_size,), replace=True, p=weights).astype(jnp.int32)
+
+
+def epoch_indices(key: jax.Array, step: jax.Array | int, num_sequences: int, batch_size: int) -> jax.Array:
+    """Indices ``[B]`` of batch ``step`` when every epoch visits each sequence once, in a fresh order.
+
+    Epoch ``e`` uses the permutation drawn from ``fold_in(key, e)``; a batch that straddles two epochs takes
+    the end of one and the start of the next, so within an epoch no sequence is dropped or repeated.
+    """
+    if batch_size > num_sequences:
+        raise ValueError(f"epoch_indices: batch_size ({batch_size}) exceeds num_sequences ({num_sequences})")
+    position = jnp.asarray(step, jnp.int32) * batch_size + jnp.arange(batch_size, dtype=jnp.int32)
+    epoch, offset = position // num_sequences, position % num_sequences
+    first = epoch[0]
+    this = jax.random.permutation(jax.random.fold_in(key, first), num_sequences)
+    following = jax.random.permutation(jax.random.fold_in(key, first + 1), num_sequences)
+    return jnp.where(epoch == first, this[offset], following[offset]).astype(jnp.int32)
+
+
+# --- which frames ----------------------------------------------------------------------------------
+
+
+def random_lengths(key: jax.Array, lengths: jax.Array, min_length: int, max_length: int) -> jax.Array:
+    """Target lengths for variable-length training: ``[B] -> [B]``, uniform in ``[min, min(n, max)]``.
+
+    Sequences shorter than ``min_length`` keep their own length (they are padded, never dropped).
+    """
+    high = jnp.minimum(lengths, max_length)
+    low = jnp.minimum(min_length, high)
+    return jax.random.randint(key, lengths.shape, low, high + 1)
+
+
+def random_crop_starts(key: jax.Array, lengths: jax.Array, window: jax.Array | int) -> jax.Array:
+    """Crop starts ``[B]``, uniform in ``[0, n - window]`` inclusive (0 for sequences shorter than it)."""
+    return jax.random.randint(key, lengths.shape, 0, jnp.maximum(lengths - window, 0) + 1)
+
+
+def window_frames(starts: jax.Array, lengths: jax.Array, window: int,
+                  padding: Padding = "last") -> tuple[jax.Array, jax.Array]:
+    """Packed frame indices ``[B, T]`` of windows over segments, and the mask ``[B, T]`` of real frames.
+
+    Args:
+      starts: ``[B]`` packed index of each segment's first frame (sequence offset plus crop start).
+      lengths: ``[B]`` frames in each segment (>= 1).
+      window: T.
+      padding: past the segment's end, ``last`` repeats its last frame, ``snake`` runs back and forth
+        over it (ActFormer).
+    """
+    t = jnp.arange(window)[None, :]
+    n = lengths[:, None]
+    if padding == "last":
+        local = jnp.minimum(t, n - 1)
+    elif padding == "snake":
+        period = jnp.maximum(2 * (n - 1), 1)
+        phase = t % period
+        local = jnp.where(phase < n, phase, period - phase)
+    else:
+        raise ValueError(f"padding: expected 'last' or 'snake', got {padding!r}")
+    return starts[:, None] + local, t < n
+
+
+# --- canonical frame and model inputs --------------------------------------------------------------
+
+
+def canonicalize_motion(joints: jax.Array, translation: jax.Array, rotations: jax.Array | None, left_hip: int,
+                        right_hip: int) -> tuple[jax.Array, jax.Array, jax.Array | None]:
+    """Root of frame 0 to the origin, facing +Z at frame 0 (a rotation about the vertical only).
+
+    ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]`` axis-angle with joint 0
+    global (or None). One rigid map moves all three, so FK of the outputs equals the output joints.
+    """
+    rot, shift = canonicalize_transform(joints, left_hip, right_hip)  # [B, 3, 3], [B, 3]
+    new_joints = jnp.einsum("bij,btkj->btki", rot, joints, precision=_HIGHEST) + shift[:, None, None]
+    if rotations is None:
+        return new_joints, jnp.einsum("bij,btj->bti", rot, translation, precision=_HIGHEST) + shift[:, None], None
+    root_mats, new_translation = transform_root(rot, shift, axis_angle_to_matrix(rotations[..., 0, :]), translation)
+    return new_joints, new_translation, rotations.at[..., 0, :].set(matrix_to_axis_angle(root_mats))
+
+
+def to_origin(joints: jax.Array, translation: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """Translate so the root of frame 0 is at the origin, without rotating (Action2Motion, ODMO):
+    ``[B, T, J, 3], [B, T, 3]`` -> same."""
+    origin = joints[:, :1, 0, :]  # [B, 1, 3]
+    return joints - origin[:, :, None], translation - origin
+
+
+def to_actor_features(rotations: jax.Array, translation: jax.Array, rep: str = "rot6d") -> jax.Array:
+    """ACTOR's input tensor ``[B, T, J + 1, C]``: each joint's rotation in ``rep``, then one extra "joint"
+    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2).
+
+    ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``; C = 6 (rot6d), 4, 3 or 9 (matrix).
+    """
+    feats = from_matrix(axis_angle_to_matrix(rotations), rep)
+    feats = feats.reshape(*rotations.shape[:3], -1)  # [B, T, J, C]
+    relative = translation - translation[:, :1]
+    trans_row = jnp.pad(relative, ((0, 0), (0, 0), (0, feats.shape[-1] - 3)))[:, :, None]
+    return jnp.concatenate([feats, trans_row], axis=2)
+
+
+def from_actor_features(features: jax.Array, rep: str = "rot6d") -> tuple[jax.Array, jax.Array]:
+    """Inverse of ``to_actor_features``: ``[B, T, J + 1, C] -> (rotations [B, T, J, 3], translation [B, T, 3])``,
+    the translation relative to frame 0."""
+    rots = features[:, :, :-1].reshape(*features.shape[:2], features.shape[2] - 1, *REPRESENTATIONS[rep])
+    return matrix_to_axis_angle(to_matrix(rots, rep)), features[:, :, -1, :3]
+
+
+def to_root_relative(joints: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """ODMO's split of ``joints [B, T, J, 3]`` into the pose relative to each frame's root ``[B, T, J, 3]``
+    and the root trajectory relative to frame 0 ``[B, T, 3]``."""
+    root = joints[..., 0, :]
+    return joints - root[..., None, :], root - root[:, :1]
+
+
+# --- batches ---------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchSpec:
+    """What a batch holds and how it is drawn (part of an experiment's config).
+
+    ``window``: T. ``min_length``: when set, each window holds a random-length segment of
+    ``[min_length, min(n, window)]`` frames followed by padding (ACTOR's 60-100 fine-tuning); otherwise a
+    segment of ``min(n, window)`` frames. ``canonical``: root of frame 0 at the origin facing +Z;
+    otherwise only the root of frame 0 at the origin (Action2Motion, ODMO).
+    """
+
+    batch_size: int
+    window: int
+    sampling: Sampling = "epoch"
+    min_length: int | None = None
+    padding: Padding = "last"
+    canonical: bool = True
+
+    def __post_init__(self):
+        if self.batch_size < 1 or self.window < 1:
+            raise ValueError(f"BatchSpec: batch_size and window must be >= 1, got {self.batch_size}, {self.window}")
+        if self.min_length is not None and not 1 <= self.min_length <= self.window:
+            raise ValueError(f"BatchSpec.min_length must be in [1, window={self.window}], got {self.min_length}")
+
+
+def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Callable[[int], dict[str, jax.Array]]:
+    """``step -> batch`` with static shapes, deterministic in ``(key, step)``; the dataset moves to device once.
+
+    The batch is a dict: ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]``
+    (when the dataset has them), ``mask [B, T]`` (real frames; padding repeats the segment's last frame or
+    snakes, per ``spec.padding``), ``lengths [B]`` (real frames per window), ``actions``, ``modes``,
+    ``subjects`` ``[B]``.
+    """
+    if len(dataset) == 0:
+        raise ValueError(f"{dataset.name}/{dataset.split}: cannot batch an empty dataset")
+    if spec.sampling == "epoch" and spec.batch_size > len(dataset):
+        raise ValueError(f"batch_size ({spec.batch_size}) exceeds the {len(dataset)} sequences of "
+                         f"{dataset.name}/{dataset.split}; use sampling='uniform' (with replacement)")
+    names = dataset.skeleton.joint_names
+    if spec.canonical and not {"left_hip", "right_hip"} <= set(names):
+        raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
+    hips = (names.index("left_hip"), names.index("right_hip")) if spec.canonical else None
+    frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
+    if dataset.rotations is not None:
+        frames_of["rotations"] = jnp.asarray(dataset.rotations)
+    starts = jnp.asarray(dataset.starts[:-1], jnp.int32)
+    lengths = jnp.asarray(dataset.lengths, jnp.int32)
+    labels = {k: jnp.asarray(getattr(dataset, k)) for k in ("actions", "modes", "subjects")}
+    weights = sequence_weights(labels["actions"], dataset.num_classes, spec.sampling)
+    order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
+
+    @jax.jit
+    def batch(step):
+        k_ids, k_len, k_crop = jax.random.split(jax.random.fold_in(step_key, step), 3)
+        if spec.sampling == "epoch":
+            ids = epoch_indices(order_key, step, len(dataset), spec.batch_size)
+        else:
+            ids = sample_sequences(k_ids, weights, spec.batch_size)
+        n = lengths[ids]
+        if spec.min_length is None:
+            seg = jnp.minimum(n, spec.window)
+        else:
+            seg = random_lengths(k_len, n, spec.min_length, spec.window)
+        crops = random_crop_starts(k_crop, n, seg)
+        frames, mask = window_frames(starts[ids] + crops, seg, spec.window, spec.padding)
+        out = {k: v[frames] for k, v in frames_of.items()}
+        if spec.canonical:
+            out["joints"], out["translation"], rotations = canonicalize_motion(
+                out["joints"], out["translation"], out.get("rotations"), *hips)
+            if rotations is not None:
+                out["rotations"] = rotations
+        else:
+            out["joints"], out["translation"] = to_origin(out["joints"], out["translation"])
+        return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in labels.items()}}
+
+    return batch

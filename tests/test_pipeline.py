@@ -1,0 +1,162 @@
+"""The batching pipeline: windows, padding, masks, sampling schemes, canonical frame, model inputs."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxmotion.data import Motion, pack
+from jaxmotion.data.pipeline import (
+    BatchSpec,
+    canonicalize_motion,
+    epoch_indices,
+    from_actor_features,
+    make_batch_fn,
+    random_lengths,
+    sequence_weights,
+    to_actor_features,
+    to_root_relative,
+    window_frames,
+)
+from jaxmotion.geometry import SMPL24, axis_angle_to_matrix, forward_kinematics
+
+LENGTHS = (30, 12, 50, 7, 41, 25)
+ACTIONS = (0, 0, 0, 1, 1, 2)
+
+
+def _fk(rotations, translation):
+    return np.asarray(forward_kinematics(axis_angle_to_matrix(jnp.asarray(rotations)), jnp.asarray(translation),
+                                         SMPL24.offsets, SMPL24.parents))
+
+
+@pytest.fixture(scope="module")
+def dataset():
+    rng = np.random.default_rng(0)
+    n, longest = len(LENGTHS), max(LENGTHS)
+    rot = (0.3 * rng.normal(size=(n, longest, 24, 3))).astype(np.float32)
+    rot[:, :, 0, 1] += rng.uniform(-3, 3, size=(n, 1))  # an arbitrary heading per sequence
+    trans = (np.cumsum(0.02 * rng.normal(size=(n, longest, 3)), axis=1) + rng.normal(size=(n, 1, 3)))
+    trans = trans.astype(np.float32)
+    joints = _fk(rot, trans)  # one FK call for all sequences, then cut each to its length
+    motions = [Motion(joints[i, :t], trans[i, :t], rot[i, :t], action=a, mode=i % 2, subject=i, name=str(i))
+               for i, (t, a) in enumerate(zip(LENGTHS, ACTIONS, strict=True))]
+    return pack(motions, name="toy", split="train", class_names=("a", "b", "c"), skeleton=SMPL24, fps=20)
+
+
+def test_last_frame_padding_repeats_the_final_frame():
+    frames, mask = window_frames(jnp.array([100]), jnp.array([4]), 7, "last")
+    assert frames.tolist() == [[100, 101, 102, 103, 103, 103, 103]]
+    assert mask.tolist() == [[True] * 4 + [False] * 3]
+
+
+def test_snake_padding_runs_back_and_forth():
+    frames, _ = window_frames(jnp.array([0, 10]), jnp.array([4, 1]), 10, "snake")
+    assert frames.tolist() == [[0, 1, 2, 3, 2, 1, 0, 1, 2, 3], [10] * 10]
+
+
+def test_random_lengths_stay_in_range():
+    n = jnp.array([5, 60, 80, 200] * 50)
+    got = np.asarray(random_lengths(jax.random.key(0), n, 60, 100))
+    assert np.all(got[n == 5] == 5)  # too short: kept whole, never dropped
+    assert np.all(got[n == 60] == 60)
+    assert np.all((got[n == 80] >= 60) & (got[n == 80] <= 80))
+    assert np.all((got[n == 200] >= 60) & (got[n == 200] <= 100)) and len(set(got[n == 200])) > 10
+
+
+def test_sequence_weights_follow_each_scheme():
+    actions = jnp.array([0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2])  # class counts 4, 1, 9
+    class_mass = lambda w: np.bincount(np.asarray(actions), weights=np.asarray(w))  # noqa: E731
+    np.testing.assert_allclose(class_mass(sequence_weights(actions, 3, "uniform")), np.array([4, 1, 9]) / 14,
+                               rtol=1e-6)
+    np.testing.assert_allclose(class_mass(sequence_weights(actions, 3, "balanced")), [1 / 3] * 3, rtol=1e-6)
+    np.testing.assert_allclose(class_mass(sequence_weights(actions, 3, "sqrt")), np.array([2, 1, 3]) / 6, rtol=1e-6)
+
+
+@pytest.mark.parametrize("batch_size", [3, 4])
+def test_epoch_sampling_visits_every_sequence_once_per_epoch(batch_size):
+    n, epochs = 12, 3
+    steps = n * epochs // batch_size
+    ids = np.concatenate([np.asarray(epoch_indices(jax.random.key(1), s, n, batch_size)) for s in range(steps)])
+    for e in range(epochs):
+        assert sorted(ids[e * n:(e + 1) * n]) == list(range(n))
+    assert not np.array_equal(ids[:n], ids[n:2 * n])  # a fresh order each epoch
+
+
+def test_batches_have_static_shapes_and_are_deterministic(dataset):
+    spec = BatchSpec(batch_size=4, window=20)
+    a = make_batch_fn(dataset, jax.random.key(0), spec)
+    b = make_batch_fn(dataset, jax.random.key(0), spec)
+    first, again = a(5), b(5)
+    assert first["joints"].shape == (4, 20, 24, 3) and first["rotations"].shape == (4, 20, 24, 3)
+    assert first["translation"].shape == (4, 20, 3) and first["mask"].shape == (4, 20)
+    jax.tree.map(lambda x, y: np.testing.assert_array_equal(np.asarray(x), np.asarray(y)), first, again)
+    assert not np.array_equal(np.asarray(a(6)["joints"]), np.asarray(first["joints"]))
+
+
+def test_window_is_a_crop_of_its_sequence_padded_with_the_last_frame(dataset):
+    batch = make_batch_fn(dataset, jax.random.key(3), BatchSpec(batch_size=6, window=40, canonical=False))(0)
+    for b in range(6):
+        seq = dataset[int(batch["subjects"][b])]  # subject i is sequence i in this fixture
+        n, real = seq.num_frames, int(batch["lengths"][b])
+        assert real == min(n, 40) and int(batch["mask"][b].sum()) == real
+        window = np.asarray(batch["joints"][b])
+        np.testing.assert_allclose(window[0, 0], 0.0, atol=1e-6)  # root of frame 0 moved to the origin
+        crops = [s for s in range(n - real + 1)
+                 if np.allclose(seq.joints[s:s + real] - seq.joints[s, 0], window[:real], atol=1e-5)]
+        assert crops, f"window {b} is not a crop of its sequence"
+        np.testing.assert_array_equal(window[real:], np.broadcast_to(window[real - 1], window[real:].shape))
+
+
+def test_canonical_batches_start_at_the_origin_facing_forward_and_stay_fk_consistent(dataset):
+    batch = make_batch_fn(dataset, jax.random.key(4), BatchSpec(batch_size=6, window=16))(2)
+    joints = np.asarray(batch["joints"])
+    np.testing.assert_allclose(joints[:, 0, 0], 0.0, atol=1e-5)
+    left = joints[:, 0, SMPL24.index("left_hip")] - joints[:, 0, SMPL24.index("right_hip")]
+    facing = np.cross(left, [0.0, 1.0, 0.0])
+    np.testing.assert_allclose(facing[:, 0], 0.0, atol=1e-5)
+    assert np.all(facing[:, 2] > 0)
+    np.testing.assert_allclose(_fk(batch["rotations"], batch["translation"]), joints, atol=2e-5)
+
+
+def test_variable_length_batches_mask_after_the_sampled_length(dataset):
+    spec = BatchSpec(batch_size=6, window=45, sampling="uniform", min_length=10)
+    batch = make_batch_fn(dataset, jax.random.key(5), spec)(0)
+    lengths, mask = np.asarray(batch["lengths"]), np.asarray(batch["mask"])
+    n = np.array([LENGTHS[int(s)] for s in np.asarray(batch["subjects"])])
+    assert np.all(lengths <= np.minimum(n, 45)) and np.all(lengths >= np.minimum(n, 10))
+    np.testing.assert_array_equal(mask, np.arange(45)[None] < lengths[:, None])
+
+
+def test_canonicalize_motion_keeps_joints_equal_to_fk(dataset):
+    m = dataset[2]
+    j, t, r = jax.jit(canonicalize_motion, static_argnums=(3, 4))(jnp.asarray(m.joints)[None], jnp.asarray(m.translation)[None],
+                                  jnp.asarray(m.rotations)[None], SMPL24.index("left_hip"), SMPL24.index("right_hip"))
+    np.testing.assert_allclose(_fk(r, t), np.asarray(j), atol=2e-5)
+
+
+@pytest.mark.parametrize("rep, channels", [("rot6d", 6), ("quaternion", 4), ("axis_angle", 3), ("matrix", 9)])
+def test_actor_features_round_trip(dataset, rep, channels):
+    m = dataset[0]
+    rot, trans = jnp.asarray(m.rotations)[None], jnp.asarray(m.translation)[None]
+    feats = jax.jit(to_actor_features, static_argnums=2)(rot, trans, rep)
+    assert feats.shape == (1, m.num_frames, 25, channels)
+    np.testing.assert_allclose(np.asarray(feats[0, 0, 24]), 0.0, atol=1e-6)  # translation relative to frame 0
+    back_rot, back_trans = jax.jit(from_actor_features, static_argnums=1)(feats, rep)
+    np.testing.assert_allclose(np.asarray(axis_angle_to_matrix(back_rot)), np.asarray(axis_angle_to_matrix(rot)),
+                               atol=1e-5)
+    np.testing.assert_allclose(np.asarray(back_trans), np.asarray(trans - trans[:, :1]), atol=1e-5)
+
+
+def test_root_relative_split_recombines(dataset):
+    joints = jnp.asarray(dataset[1].joints)[None]
+    local, trajectory = to_root_relative(joints)
+    np.testing.assert_allclose(np.asarray(local[..., 0, :]), 0.0, atol=1e-7)
+    np.testing.assert_allclose(np.asarray(local + trajectory[:, :, None] + joints[:, :1, :1]), np.asarray(joints),
+                               atol=1e-5)
+
+
+def test_bad_specs_are_rejected(dataset):
+    with pytest.raises(ValueError, match="min_length must be in"):
+        BatchSpec(batch_size=2, window=10, min_length=11)
+    with pytest.raises(ValueError, match="exceeds the 6 sequences"):
+        make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=7, window=10))
