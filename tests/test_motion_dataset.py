@@ -71,3 +71,15 @@ def test_malformed_datasets_name_the_field():
     with pytest.raises(ValueError, match="either every motion has rotations or none"):
         pack(_motions((3,)) + _motions((3,), rotations=False), name="x", split="all", class_names=("a",),
              skeleton=SMPL24, fps=20)
+
+
+def test_concatenate_appends_sequences_in_order():
+    from jaxmotion.data import concatenate
+
+    a, b = _dataset((5, 7)), _dataset((3,))
+    both = concatenate([a, b], split="all")
+    assert both.split == "all" and list(both.lengths) == [5, 7, 3]
+    np.testing.assert_array_equal(both[2].joints, b[0].joints)
+    other = pack(_motions((2,)), name="x", split="train", class_names=("z",) * 3, skeleton=SMPL24, fps=20)
+    with pytest.raises(ValueError, match="other classes"):
+        concatenate([a, other], split="all")

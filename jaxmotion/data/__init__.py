@@ -1,6 +1,12 @@
-"""Motion data: the record and packed-dataset model, the embedded procedural dataset, real-format loaders,
-and the batching pipeline."""
+"""Motion data: the record and packed-dataset model, the embedded procedural datasets, real-format loaders,
+and the batching pipeline.
 
-from jaxmotion.data.motion import Motion, MotionDataset, pack
+    from jaxmotion.data import load_dataset
+    train = load_dataset("synth-humanact12")                      # embedded, generated once and cached
+    uestc = load_dataset("uestc", "test", data_root="data/uestc")  # the real files, in their own format
+"""
 
-__all__ = ["Motion", "MotionDataset", "pack"]
+from jaxmotion.data.datasets import dataset_names, load_dataset
+from jaxmotion.data.motion import Motion, MotionDataset, concatenate, pack
+
+__all__ = ["Motion", "MotionDataset", "concatenate", "dataset_names", "load_dataset", "pack"]

@@ -217,6 +217,27 @@ def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Seque
     )
 
 
+def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
+    """The sequences of several datasets with the same classes and skeleton, one after another."""
+    first = parts[0]
+    for p in parts[1:]:
+        if p.class_names != first.class_names or p.skeleton is not first.skeleton:
+            raise ValueError(f"concatenate: {p.name}/{p.split} has other classes or another skeleton than "
+                             f"{first.name}/{first.split}")
+    rotations = [p.rotations for p in parts]
+    return dataclasses.replace(
+        first, split=split,
+        joints=np.concatenate([p.joints for p in parts]),
+        translation=np.concatenate([p.translation for p in parts]),
+        rotations=None if any(r is None for r in rotations) else np.concatenate(rotations),
+        starts=np.concatenate([[0], np.cumsum(np.concatenate([p.lengths for p in parts]))]).astype(np.int64),
+        actions=np.concatenate([p.actions for p in parts]),
+        modes=np.concatenate([p.modes for p in parts]),
+        subjects=np.concatenate([p.subjects for p in parts]),
+        names=tuple(n for p in parts for n in p.names),
+    )
+
+
 def _expect(array: np.ndarray, shape: tuple[int, ...], field: str, named: str) -> None:
     if not isinstance(array, np.ndarray) or array.shape != shape:
         got = getattr(array, "shape", type(array).__name__)

@@ -1,0 +1,101 @@
+"""The embedded procedural motion dataset: action-labelled human motion on the SMPL-24 tree.
+
+No motion-capture data can be downloaded here, so every experiment trains and evaluates by default on
+motions generated from how people move (``shared/reference/MOTION_FACTS.md``): joint-angle curves per
+action phase with minimum-jerk timing, coordinated limbs, clinical joint limits, feet planted while
+they bear weight, ballistic flight. Variants stand in for the paper datasets, with their class names:
+
+>>> from jaxmotion.data import synthetic
+>>> data = synthetic.load("synth-humanact12")          # generated once, then read from the cache
+>>> data.class_names[data.actions[0]], data.mode_names[data.actions[0]][data.modes[0]]
+
+Every sequence has local axis-angle ``rotations [T, 24, 3]`` (float32), root ``translation [T, 3]``,
+``joints = forward_kinematics(rotations, translation, subject_offsets(...))`` (within 1e-5), an action,
+a ground-truth style ``mode`` and a ``subject`` whose bones are scaled within +-10% of the template.
+
+Frame rate: 20 fps for the HumanAct12 / UESTC / NTU stand-ins (ACTOR and A2M train on 60-frame crops of
+2-4 s actions, i.e. ~20 fps; HumanAct12's own rate is not published), 12 fps for the CMU stand-in
+(A2M's downsampled CMU set).
+
+Foot sliding: during single support the weight-bearing foot is pinned by construction (float rounding
+only); in walking double support the feet's disagreement is split by their weight shares. Measured on
+walk and run of ``synth-humanact12`` (seed 0), the toe joint's horizontal speed while within 2 cm of the
+floor is below ``FOOT_SKATE_TOLERANCE`` m/s on average (see ``tests/test_synthetic.py``).
+
+Determinism: sequence i of a split uses ``SeedSequence([seed, crc32(variant), crc32(split), i])`` and
+subject s uses its own stream, so arrays do not depend on generation order: same (variant, split, seed),
+same bytes. ``GENERATOR_VERSION`` is part of the cache file name; bump it when the output changes.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+from jaxmotion.data.motion import MotionDataset, concatenate
+from jaxmotion.data.synthetic import humanact12
+from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
+
+__all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "generate", "load",
+           "subject_offsets"]
+
+GENERATOR_VERSION = 1
+#: Mean toe-joint horizontal speed (m/s) allowed on floor-contact frames of walking and running.
+FOOT_SKATE_TOLERANCE = 0.08
+
+VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
+    "synth-humanact12": Variant(
+        name="synth-humanact12", classes=humanact12.CLASSES, fps=20.0, lengths=(40, 150),
+        splits=MappingProxyType({"train": Split(num_sequences=1200, subjects=tuple(range(12)))}),
+    ),
+})
+
+
+def _variant(name: str) -> Variant:
+    if name not in VARIANTS:
+        raise ValueError(f"unknown synthetic variant {name!r}; valid names: {sorted(VARIANTS)}")
+    return VARIANTS[name]
+
+
+def _splits(variant: Variant, split: str) -> tuple[str, ...]:
+    if split == "all":
+        return tuple(variant.splits)
+    if split not in variant.splits:
+        raise ValueError(f"{variant.name} has splits {sorted(variant.splits)} (and 'all'), not {split!r}")
+    return (split,)
+
+
+def generate(name: str, split: str = "train", *, seed: int = 0, count: int | None = None) -> MotionDataset:
+    """Generate a split in memory (``"all"`` = every split, concatenated).
+
+    ``count`` keeps only the first ``count`` sequences of each split; prefixes are class- and
+    mode-balanced, so small counts give small, representative datasets (tests, smoke runs).
+    """
+    variant = _variant(name)
+    parts = [generate_split(variant, s, seed, count) for s in _splits(variant, split)]
+    return parts[0] if len(parts) == 1 else concatenate(parts, split="all")
+
+
+def cache_path(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> Path:
+    """Where :func:`load` keeps a generated split."""
+    root = cache_dir or os.environ.get("JAXMOTION_CACHE") or Path.home() / ".cache" / "jaxmotion"
+    return Path(root) / f"{name}-{split}-seed{seed}-v{GENERATOR_VERSION}.npz"
+
+
+def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> MotionDataset:
+    """A split, generated on first use and cached as ``.npz`` (see :func:`cache_path`)."""
+    _splits(_variant(name), split)
+    path = cache_path(name, split, seed=seed, cache_dir=cache_dir)
+    if path.exists():
+        return MotionDataset.load(path)
+    data = generate(name, split, seed=seed)
+    data.save(path)
+    return data
+
+
+def subject_offsets(name: str, subject_id: int, *, seed: int = 0) -> np.ndarray:
+    """``[J, 3]`` float32 rest offsets of a subject's body: the skeleton its ``joints`` were posed with."""
+    return subject(_variant(name), subject_id, seed).offsets

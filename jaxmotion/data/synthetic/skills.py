@@ -1,0 +1,343 @@
+"""Reusable, parametrised movement skills that action classes compose.
+
+Every skill writes into a :class:`~jaxmotion.data.synthetic.take.Take` (adding to the channels it
+drives, so skills layer) and is written once for the LEFT side with a ``side`` argument: the anatomy
+mirrors the right side. Angles are degrees, times seconds, distances metres at template size (multiply
+by ``take.scale()``). Figures are from MOTION_FACTS (section numbers in the docstrings).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from jaxmotion.data.synthetic import timing
+from jaxmotion.data.synthetic.take import SIDES, Take, other
+
+# --- arms ----------------------------------------------------------------------------------------------
+
+
+def arm_direction(flex: np.ndarray, abd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Humerus flexion (forward) and abduction (sideways) angles -> (plane, elevation), degrees.
+
+    The arm hanging down, turned forward by ``flex`` after sideways by ``abd``; ``plane`` is meaningless
+    at zero elevation, where its jump between +-90 does not move the arm.
+    """
+    f, a = np.radians(flex), np.radians(abd)
+    d = np.stack(np.broadcast_arrays(np.sin(a), -np.cos(a) * np.cos(f), np.cos(a) * np.sin(f)))
+    return np.degrees(np.arctan2(d[2], d[0])), np.degrees(np.arccos(np.clip(-d[1], -1.0, 1.0)))
+
+
+def set_arm(take: Take, side: str, flex, abd, *, rot=0.0, elbow=None) -> None:
+    """Point ``side``'s upper arm by flexion/abduction (degrees), overwriting the shoulder channels."""
+    plane, elev = arm_direction(np.asarray(flex, float), np.asarray(abd, float))
+    take[f"{side}_shoulder.plane"] = plane
+    take[f"{side}_shoulder.elev"] = elev
+    take[f"{side}_shoulder.rot"] = rot
+    if elbow is not None:
+        take[f"{side}_elbow.flex"] = elbow
+
+
+def reach(take: Take, side: str, target: np.ndarray, *, elbow_hint=(0.4, -1.0, -0.3)) -> None:
+    """Two-bone inverse kinematics: place ``side``'s wrist at ``target``.
+
+    Args:
+      target: ``[T, 3]`` (or ``[3]``) wrist position in the thorax (spine3) frame, side-normalised: x away
+        from the midline, y up, z forward. Targets out of reach are pulled onto the reachable shell.
+      elbow_hint: side-normalised direction the elbow points to (down-out-back by default).
+    """
+    upper, fore = take.arm_lengths()
+    shoulder = take.shoulder_point()
+    target = np.broadcast_to(np.asarray(target, float), (take.num_frames, 3))
+    to_wrist = target - shoulder
+    dist = np.clip(np.linalg.norm(to_wrist, axis=-1), abs(upper - fore) + 0.02, upper + fore - 1e-3)
+    u = to_wrist / np.linalg.norm(to_wrist, axis=-1, keepdims=True)
+    hint = np.asarray(elbow_hint, float)
+    v = hint - (u @ hint)[:, None] * u
+    v = v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-9)
+    cos_a = np.clip((upper**2 + dist**2 - fore**2) / (2 * upper * dist), -1.0, 1.0)
+    arm = cos_a[:, None] * u + np.sqrt(1.0 - cos_a**2)[:, None] * v  # upper-arm direction
+    wrist = dist[:, None] * u
+    forearm = wrist - upper * arm
+    forearm = forearm / np.linalg.norm(forearm, axis=-1, keepdims=True)
+    cos_e = np.clip(np.sum(arm * forearm, axis=-1), -1.0, 1.0)
+    elev = np.degrees(np.arccos(np.clip(-arm[:, 1], -1.0, 1.0)))
+    plane = np.degrees(np.arctan2(arm[:, 2], arm[:, 0]))
+    # Humeral rotation: turn the elbow's flexion axis (where the swing alone leaves it) onto arm x forearm.
+    swing_axis = _swing(plane, elev) @ np.array([-1.0, 0.0, 0.0])
+    wanted = np.cross(arm, forearm)
+    wanted = wanted / np.maximum(np.linalg.norm(wanted, axis=-1, keepdims=True), 1e-9)
+    rot = np.degrees(np.arctan2(np.sum(np.cross(swing_axis, wanted) * arm, axis=-1),
+                                np.sum(swing_axis * wanted, axis=-1)))
+    take[f"{side}_shoulder.plane"] = plane
+    take[f"{side}_shoulder.elev"] = elev
+    take[f"{side}_shoulder.rot"] = rot
+    take[f"{side}_elbow.flex"] = np.degrees(np.arccos(cos_e))
+
+
+def _swing(plane: np.ndarray, elev: np.ndarray) -> np.ndarray:
+    """``[T, 3, 3]`` Ry(-plane) Rz(elev) Ry(plane): the arm's minimal rotation up from hanging."""
+    p, e = np.radians(plane), np.radians(elev)
+    cp, sp, ce, se = np.cos(p), np.sin(p), np.cos(e), np.sin(e)
+
+    def ry(c, s):
+        z, o = np.zeros_like(c), np.ones_like(c)
+        return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
+
+    z, o = np.zeros_like(ce), np.ones_like(ce)
+    rz = np.stack([np.stack([ce, -se, z], -1), np.stack([se, ce, z], -1), np.stack([z, z, o], -1)], -2)
+    return ry(cp, -sp) @ rz @ ry(cp, sp)
+
+
+def relaxed_wrist(take: Take) -> np.ndarray:
+    """``[3]`` side-normalised thorax-frame wrist position of a relaxed hanging arm."""
+    upper, fore = take.arm_lengths()
+    carry = np.radians(take.subject.arm_carry)
+    return take.shoulder_point() + np.array([0.04, -upper - fore * np.cos(carry), fore * np.sin(carry)])
+
+
+def toward(take: Take, side: str, envelope: np.ndarray, target, *, elbow_hint=(0.4, -1.0, -0.3),
+           start=None, bulge: float = 0.12) -> None:
+    """Move ``side``'s wrist from ``start`` (relaxed by default) to ``target`` as ``envelope [T]`` goes 0 -> 1,
+    on a path bowed ``bulge`` metres forward (hands travel in front of the body, not through it)."""
+    start = relaxed_wrist(take) if start is None else np.asarray(start, float)
+    path = start + envelope[:, None] * (np.asarray(target, float) - start)
+    path[:, 2] += bulge * take.scale() * np.sin(np.pi * np.clip(envelope, 0.0, 1.0))
+    reach(take, side, path, elbow_hint=elbow_hint)
+
+
+def landmark(take: Take, name: str) -> np.ndarray:
+    """``[3]`` side-normalised thorax-frame point for a wrist target near the head or chest."""
+    s = take.scale()
+    head = take.head_point()
+    points = {
+        "mouth": head + s * np.array([0.03, -0.10, 0.05]),  # wrist such that the hand is at the mouth
+        "ear": head + s * np.array([0.11, -0.09, -0.01]),
+        "brow": head + s * np.array([0.09, 0.01, 0.08]),
+        "chin": head + s * np.array([0.09, -0.16, 0.15]),
+        "chest": s * np.array([0.07, -0.12, 0.28]),
+        "bowl": s * np.array([0.10, -0.27, 0.27]),
+    }
+    return points[name]
+
+
+def straight_ahead(take: Take, extension: float) -> np.ndarray:
+    """``[3]`` wrist target straight in front of the shoulder at shoulder height, ``extension`` of full reach."""
+    upper, fore = take.arm_lengths()
+    return take.shoulder_point() + np.array([-0.06, -0.02, extension * (upper + fore)])
+
+
+# --- posture -------------------------------------------------------------------------------------------
+
+
+def stand(take: Take, *, heading: float | None = None) -> None:
+    """Relaxed standing: habitual trunk posture, arms hanging with their carry angle, soft knees, and
+    postural sway (ankle strategy forward/back, weight shifts side to side, ~0.1-0.8 Hz)."""
+    take["pelvis.heading"] += take.rng.normal(0.0, 20.0) if heading is None else heading
+    take["spine1.flex"] += 0.4 * take.subject.posture
+    take["spine2.flex"] += 0.6 * take.subject.posture
+    sway_ap, sway_ml = take.wander(0.8, 0.6), take.wander(1.0, 0.4)
+    for side in SIDES:
+        set_arm(take, side, 3.0 + take.wander(2.0), 6.0 + take.wander(1.5), elbow=take.subject.arm_carry)
+        take[f"{side}_elbow.pron"] = 10.0
+        take[f"{side}_knee.flex"] += 3.0
+        take[f"{side}_hip.flex"] += 2.0
+        take[f"{side}_ankle.dorsi"] += sway_ap + 1.0
+    take["left_hip.abd"] += sway_ml
+    take["right_hip.abd"] -= sway_ml
+    take["pelvis.obliquity"] += 0.5 * sway_ml
+    take["neck.twist"] += take.wander(3.0, 0.3)
+
+
+def seated(take: Take, weight: np.ndarray | float = 1.0) -> None:
+    """Sitting on a ~knee-height seat (thighs horizontal, shanks vertical, a little back lean), blended in
+    by ``weight [T]`` (1 = seated)."""
+    w = np.asarray(weight, float)
+    for side in SIDES:
+        take[f"{side}_hip.flex"] += w * take.vary(88.0, 0.05)
+        take[f"{side}_knee.flex"] += w * take.vary(88.0, 0.05)
+        take[f"{side}_ankle.dorsi"] += w * 2.0
+        take[f"{side}_hip.abd"] += w * 6.0
+    take["spine1.flex"] -= w * 6.0
+
+
+def sit_transition(take: Take, start: float, duration: float, *, down: bool, hand_push: bool) -> None:
+    """Stand-to-sit (``down``) or sit-to-stand over ``duration`` s (MOTION_FACTS 3.4): the trunk flexes
+    forward to bring the weight over the feet, the hips and knees fold (or extend), the trunk comes
+    upright; optionally the hands push on the thighs."""
+    phases = np.array([0.0, 0.35, 0.75, 1.0]) * duration + start
+    lean = timing.keyframes(take.t, phases, [0.0, 1.0, 0.6, 0.0])
+    sit = timing.keyframes(take.t, [phases[0] + 0.15 * duration, phases[2] + 0.1 * duration], [0.0, 1.0])
+    if not down:
+        sit = 1.0 - timing.keyframes(take.t, [phases[0] + 0.2 * duration, phases[2]], [0.0, 1.0])
+    seated(take, sit)
+    lean_deg = take.vary(30.0, 0.15)
+    take["pelvis.tilt"] += 0.4 * lean_deg * lean
+    take["spine1.flex"] += 0.4 * lean_deg * lean
+    take["spine2.flex"] += 0.2 * lean_deg * lean
+    take["neck.flex"] -= 0.2 * lean_deg * lean
+    for side in SIDES:
+        take[f"{side}_hip.flex"] += 0.4 * lean_deg * lean
+        take[f"{side}_ankle.dorsi"] += 8.0 * lean * (1.0 - sit) + 4.0 * sit * lean
+        if hand_push:
+            push = np.maximum(lean, sit)
+            set_arm(take, side, 5.0 + 35.0 * push, 8.0 + 4 * push, elbow=take.subject.arm_carry + 25.0 * push)
+        else:
+            arm = take[f"{side}_shoulder.elev"] + 25.0 * lean
+            set_arm(take, side, arm, 8.0, elbow=take.subject.arm_carry + 15.0 * lean)
+
+
+# --- locomotion ----------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class GaitCurves:
+    """Sagittal joint angles over one stride (phase 0 = left foot strike) and the support pattern.
+
+    ``hip``, ``knee``, ``ankle``: ``(knots, values)`` for :func:`timing.periodic`. ``duty``: stance
+    fraction per foot; ``ramp``: weight-transfer (double-support) fraction; below 0.5 duty, flight.
+    """
+
+    hip: tuple
+    knee: tuple
+    ankle: tuple
+    duty: float
+    ramp: float
+    elbow: float  # mean elbow flexion
+    arm_swing: float  # shoulder flexion amplitude
+    lean: float  # forward trunk lean
+
+
+# MOTION_FACTS 3.1 (walking sagittal curves, stance 62%, double support 2 x 12%).
+WALK = GaitCurves(
+    hip=((0.0, 0.12, 0.3, 0.5, 0.62, 0.75, 0.87), (25.0, 22.0, 6.0, -12.0, -2.0, 20.0, 30.0)),
+    knee=((0.0, 0.12, 0.35, 0.5, 0.62, 0.72, 0.88), (3.0, 17.0, 5.0, 10.0, 42.0, 70.0, 20.0)),
+    ankle=((0.0, 0.08, 0.3, 0.45, 0.6, 0.7, 0.8), (0.0, -5.0, 6.0, 10.0, -18.0, 0.0, 5.0)),
+    duty=0.62, ramp=0.12, elbow=15.0, arm_swing=14.0, lean=2.0,
+)
+# MOTION_FACTS 3.2 (jogging: contact ~37% of the stride per foot, two flights per stride); the hip
+# retracts before touchdown so the foot lands nearly at rest on the ground.
+RUN = GaitCurves(
+    hip=((0.0, 0.15, 0.37, 0.5, 0.7, 0.82), (36.0, 20.0, -12.0, -2.0, 45.0, 52.0)),
+    knee=((0.0, 0.12, 0.37, 0.6, 0.78, 0.92), (28.0, 42.0, 22.0, 95.0, 72.0, 35.0)),
+    ankle=((0.0, 0.12, 0.3, 0.42, 0.6, 0.85), (8.0, 18.0, 10.0, -25.0, -10.0, 16.0)),
+    duty=0.37, ramp=0.03, elbow=85.0, arm_swing=28.0, lean=8.0,
+)
+
+
+def gait(take: Take, curves: GaitCurves, *, cadence: float, size: float = 1.0, turn: float = 0.0,
+         hip_bias: float = 0.0, knee_boost: tuple = (0.0, 0.0), phase: np.ndarray | None = None) -> np.ndarray:
+    """Locomotion from a stride pattern, with coordinated pelvis, trunk, arms and support.
+
+    Args:
+      cadence: steps per second (two per stride).
+      size: scales the joint excursions (longer strides, higher knees).
+      turn: heading change, degrees per second (+ = to the subject's left).
+      hip_bias: added hip flexion (negative shortens the forward reach: in-place gaits).
+      knee_boost: ``(degrees, centre phase)`` extra swing knee flexion (butt kicks) peaking at that phase.
+      phase: stride phase ``[T]`` to use instead of a fresh, slowly drifting one.
+
+    Returns:
+      the stride phase ``[T]`` (cycles) of the left leg.
+    """
+    if phase is None:
+        phase = timing.warped_phase(take.t, cadence / 2.0 * take.tempo, take.rng, wobble=0.04)
+    size = size * take.amp
+    for side, offset in (("left", 0.0), ("right", 0.5)):
+        p = phase - offset
+        hip = timing.periodic(p, *curves.hip)
+        take[f"{side}_hip.flex"] += size * hip + hip_bias
+        knee = (0.5 + 0.5 * size) * timing.periodic(p, *curves.knee)  # keeps toe clearance when slow
+        if knee_boost[0]:
+            knee += knee_boost[0] * np.exp(np.cos(2 * np.pi * (p - knee_boost[1])) * 3.0 - 3.0)
+        take[f"{side}_knee.flex"] += knee
+        take[f"{side}_ankle.dorsi"] += (0.5 + 0.5 * size) * timing.periodic(p, *curves.ankle)
+        take[f"{side}_ankle.out"] += 5.0
+        take.contact[:, SIDES.index(side)] = timing.pulses(p, curves.duty, curves.ramp)
+        # Arms swing opposite the same-side leg (MOTION_FACTS 3.1): forward when that leg is behind.
+        swing = size * curves.arm_swing * np.cos(2 * np.pi * (p - 0.55))
+        set_arm(take, side, 4.0 + swing, 8.0, elbow=curves.elbow + 0.25 * swing)
+        take[f"{side}_elbow.pron"] = 15.0
+    cycle = 2 * np.pi * phase
+    take["pelvis.heading"] += turn * take.t - 4.0 * size * np.cos(cycle)  # swing side forward
+    take["spine2.twist"] += 4.5 * size * np.cos(cycle)  # thorax counter-rotates
+    take["spine3.twist"] += 4.5 * size * np.cos(cycle)
+    obliquity = 4.0 * size * np.sin(cycle)  # stance side up
+    take["pelvis.obliquity"] += obliquity
+    take["left_hip.abd"] -= obliquity
+    take["right_hip.abd"] += obliquity
+    take["pelvis.tilt"] += curves.lean + 1.5 * size * np.cos(2 * cycle)
+    take["spine1.flex"] += 0.5 * curves.lean
+    take["pelvis.obliquity"] -= turn / 15.0  # lean into the turn
+    return phase
+
+
+# --- one-off whole-body skills ---------------------------------------------------------------------------
+
+
+def jump(take: Take, start: float, *, height: float, forward: float = 0.0, dip: float = 1.0,
+         arm_swing: float = 1.0) -> float:
+    """Countermovement jump (MOTION_FACTS 3.3) beginning at ``start``: unweight and dip, propel, fly
+    ``sqrt(8 h / g)`` s, land toes first and absorb. Returns the time it ends."""
+    flight = np.sqrt(8.0 * height / 9.81)
+    dip_t, push_t = take.vary(0.4, 0.1), take.vary(0.22, 0.1)
+    t_bottom = start + dip_t
+    t_off = t_bottom + push_t
+    t_land = t_off + flight
+    t_absorb = t_land + 0.2
+    t_end = t_absorb + take.vary(0.5, 0.1)
+    keys = [start, t_bottom, t_off, t_off + 0.4 * flight, t_land, t_absorb, t_end]
+
+    def curve(*values):
+        return timing.keyframes(take.t, keys, values)
+
+    d = dip * take.amp
+    for side in SIDES:
+        take[f"{side}_hip.flex"] += curve(0, 75 * d, -5, 25, 18, 45 * d, 0)
+        take[f"{side}_knee.flex"] += curve(0, 85 * d, 0, 35, 12, 55 * d, 0)
+        take[f"{side}_ankle.dorsi"] += curve(0, 22 * d, -35, -25, -20, 18 * d, 0)
+        set_arm(take, side, 3.0 + arm_swing * curve(0, -45, 150, 120, 70, 25, 0), 10.0,
+                elbow=curve(15, 10, 15, 25, 30, 20, 15))
+    take["spine1.flex"] += curve(0, 25 * d, -5, 8, 6, 15 * d, 0)
+    take["spine2.flex"] += curve(0, 10 * d, -5, 4, 3, 8 * d, 0)
+    take["neck.flex"] += curve(0, -10 * d, -5, 0, 0, -5, 0)
+    airborne = (take.t > t_off) & (take.t < t_land)
+    take.contact[airborne] = 0.0
+    take.flight_speed = forward / flight
+    take.flight_carry = 0.0
+    return t_end
+
+
+def step_out(take: Take, side: str, start: float, duration: float, *, length: float) -> None:
+    """Step ``side``'s foot ``length`` metres forward and stay in the staggered stance: lift (hip and knee
+    flex), reach, plant, weight moves onto it."""
+    leg = 0.85 * take.scale()
+    reach_deg = np.degrees(np.arcsin(np.clip(length / leg, 0.0, 0.8)))
+    keys = start + duration * np.array([0.0, 0.45, 1.0])
+    take[f"{side}_hip.flex"] += timing.keyframes(take.t, keys, [0, 0.5 * reach_deg + 18, 0.5 * reach_deg])
+    take[f"{side}_knee.flex"] += timing.keyframes(take.t, keys, [0, 35, 5])
+    take[f"{other(side)}_hip.flex"] -= timing.keyframes(take.t, keys, [0, 0.2, 0.5]) * reach_deg
+    take[f"{other(side)}_ankle.dorsi"] += timing.keyframes(take.t, keys, [0, 3, 6])
+    lifted = (take.t > keys[0] + 0.1 * duration) & (take.t < keys[2] - 0.1 * duration)
+    take.contact[lifted, SIDES.index(side)] = 0.0
+    take.contact[lifted, SIDES.index(other(side))] = 1.0
+
+
+def bumps(take: Take, times, width: float) -> np.ndarray:
+    """``[T]`` sum of smooth 0 -> 1 -> 0 bumps of ``width`` s starting at ``times`` (a move and its return)."""
+    out = np.zeros(take.num_frames)
+    for t0 in times:
+        out += timing.keyframes(take.t, [t0, t0 + 0.5 * width, t0 + width], [0.0, 1.0, 0.0])
+    return np.minimum(out, 1.0)
+
+
+def beats(take: Take, period: float, *, jitter: float = 0.15, first: float | None = None) -> np.ndarray:
+    """Event times at about every ``period`` s (tempo-scaled, with timing jitter) across the clip."""
+    period = period / take.tempo
+    t = take.uniform(0.1, 0.6) * period if first is None else first
+    times = []
+    while t < take.duration:
+        times.append(t)
+        t += period * (1.0 + take.rng.normal(0.0, jitter))
+    return np.array(times)

@@ -1,0 +1,167 @@
+"""The embedded procedural dataset: determinism, layout, kinematic consistency, physical plausibility."""
+
+import numpy as np
+import pytest
+
+from jaxmotion.data import synthetic
+from jaxmotion.data.synthetic import anatomy
+from jaxmotion.data.synthetic.grounding import foot_skate
+from jaxmotion.geometry import rotations
+from jaxmotion.geometry.kinematics import bone_lengths, forward_kinematics
+from jaxmotion.geometry.skeletons import SMPL24
+
+NAME = "synth-humanact12"
+PER_MODE = 3  # sequences per (class, mode) in the shared sample
+_TOES = (SMPL24.index("left_foot"), SMPL24.index("right_foot"))
+
+
+@pytest.fixture(scope="module")
+def sample():
+    variant = synthetic.VARIANTS[NAME]
+    count = PER_MODE * sum(len(c.modes) for c in variant.classes)
+    return synthetic.generate(NAME, seed=0, count=count)
+
+
+def _class(data, name):
+    return data.class_names.index(name)
+
+
+def test_same_seed_gives_identical_bytes_and_other_seed_differs():
+    a = synthetic.generate(NAME, seed=3, count=6)
+    b = synthetic.generate(NAME, seed=3, count=6)
+    c = synthetic.generate(NAME, seed=4, count=6)
+    for field in ("rotations", "translation", "joints", "starts", "actions", "modes", "subjects"):
+        assert getattr(a, field).tobytes() == getattr(b, field).tobytes(), field
+    assert a.rotations.shape != c.rotations.shape or not np.array_equal(a.rotations, c.rotations)
+
+
+def test_prefix_is_order_independent(sample):
+    small = synthetic.generate(NAME, seed=0, count=4)
+    assert np.array_equal(small.rotations, sample.rotations[: small.starts[-1]])
+
+
+def test_shapes_dtypes_and_label_ranges(sample):
+    variant = synthetic.VARIANTS[NAME]
+    frames = sample.starts[-1]
+    assert sample.rotations.shape == sample.joints.shape == (frames, 24, 3)
+    assert sample.translation.shape == (frames, 3)
+    assert sample.rotations.dtype == sample.joints.dtype == sample.translation.dtype == np.float32
+    assert sample.num_classes == 12 and sample.class_names == variant.class_names
+    assert sample.fps == 20.0
+    for c in range(sample.num_classes):
+        modes = sample.modes[sample.actions == c]
+        assert set(modes.tolist()) == set(range(len(variant.classes[c].modes)))
+    assert set(sample.subjects.tolist()) <= set(variant.splits["train"].subjects)
+    lo, hi = variant.lengths
+    assert sample.lengths.min() >= lo and sample.lengths.max() <= hi
+
+
+def test_full_split_is_about_balanced():
+    actions, _ = synthetic.engine.schedule(synthetic.VARIANTS[NAME], "train")
+    counts = np.bincount(actions)
+    assert len(actions) == 1200 and counts.min() >= 80 and counts.max() <= 120
+
+
+def test_joints_are_fk_of_stored_rotations(sample):
+    offsets = np.stack([synthetic.subject_offsets(NAME, int(s)) for s in sample.subjects])
+    per_frame = np.repeat(offsets, sample.lengths, axis=0)
+    joints = forward_kinematics(rotations.axis_angle_to_matrix(sample.rotations), sample.translation,
+                                per_frame, SMPL24.parents)
+    np.testing.assert_allclose(np.asarray(joints), sample.joints, atol=1e-5)
+
+
+def test_every_pose_within_joint_limits(sample):
+    angles = anatomy.rotmats_to_angles(np.asarray(rotations.axis_angle_to_matrix(sample.rotations), float))
+    tolerance = 0.05  # degrees: float32 storage
+    assert np.all(angles >= anatomy.LIMITS[:, :, 0] - tolerance)
+    assert np.all(angles <= anatomy.LIMITS[:, :, 1] + tolerance)
+
+
+def test_angle_conversion_round_trips():
+    rng = np.random.default_rng(0)
+    limits = np.clip(anatomy.LIMITS, -170, 170)
+    angles = rng.uniform(limits[..., 0], limits[..., 1], size=(200, 24, 3))
+    back = anatomy.rotmats_to_angles(anatomy.angles_to_rotmats(angles))
+    np.testing.assert_allclose(back, angles, atol=1e-6)
+
+
+def test_feet_never_below_the_floor(sample):
+    assert sample.joints[..., 1].min() > -0.01
+
+
+def test_foot_sliding_in_locomotion_below_tolerance(sample):
+    speeds = []
+    for c in (_class(sample, "walk"), _class(sample, "run")):
+        for i in np.flatnonzero(sample.actions == c):
+            speeds.append(foot_skate(sample[int(i)].joints, _TOES, sample.fps))
+    speeds = np.concatenate(speeds)
+    assert len(speeds) > 100
+    assert speeds.mean() < synthetic.FOOT_SKATE_TOLERANCE
+
+
+def test_locomotion_travels_and_standing_actions_stay(sample):
+    def travel(c):  # mean horizontal root speed along the path, m/s
+        idx = np.flatnonzero(sample.actions == _class(sample, c))
+        paths = [sample[int(i)].translation[:, [0, 2]] for i in idx]
+        return np.array([np.linalg.norm(np.diff(p, axis=0), axis=-1).mean() * sample.fps for p in paths])
+
+    assert np.all(travel("walk") > 0.5) and np.all(travel("walk") < 2.0)  # m/s
+    assert np.all(travel("run") > 1.5)
+    assert np.all(travel("drink") < 0.15) and np.all(travel("phone") < 0.15)
+
+
+def _features(motion):
+    """Mode-defining summary: mean and spread of root-relative joints, and mean joint speed."""
+    rel = motion.joints - motion.joints[:, :1]
+    speed = np.linalg.norm(np.diff(motion.joints, axis=0), axis=-1).mean(axis=0)
+    root_speed = np.linalg.norm(np.diff(motion.translation[:, [0, 2]], axis=0), axis=-1).mean()
+    return np.concatenate([rel.mean(0).ravel(), rel.std(0).ravel(), 5 * speed, [5 * root_speed]])
+
+
+def test_modes_are_distinct(sample):
+    for c in range(sample.num_classes):
+        idx = np.flatnonzero(sample.actions == c)
+        feats = np.stack([_features(sample[int(i)]) for i in idx])
+        modes = sample.modes[idx]
+        dist = np.linalg.norm(feats[:, None] - feats[None], axis=-1)
+        same = modes[:, None] == modes[None]
+        off_diagonal = ~np.eye(len(idx), dtype=bool)
+        within, between = dist[same & off_diagonal].mean(), dist[~same].mean()
+        assert between > within, (sample.class_names[c], within, between)
+
+
+def test_bone_lengths_vary_across_subjects_within_ten_percent():
+    template = np.asarray(bone_lengths(_rest_joints(SMPL24.offsets), SMPL24.parents))
+    ratios = []
+    for s in synthetic.VARIANTS[NAME].subjects:
+        ratios.append(np.asarray(bone_lengths(_rest_joints(synthetic.subject_offsets(NAME, s)), SMPL24.parents))
+                      / template)
+    ratios = np.stack(ratios)
+    assert np.all(np.abs(ratios - 1.0) <= 0.1 + 1e-6)
+    assert ratios.std(axis=0).min() > 0.01  # every bone varies across subjects
+
+
+def _rest_joints(offsets):
+    return np.asarray(forward_kinematics(np.broadcast_to(np.eye(3, dtype=np.float32), (24, 3, 3)),
+                                         np.zeros(3, np.float32), offsets, SMPL24.parents))
+
+
+def test_cache_round_trip(tmp_path, monkeypatch):
+    calls = []
+    real = synthetic.generate
+    monkeypatch.setattr(synthetic, "generate", lambda *a, **k: calls.append(1) or real(*a, **k, count=5))
+    first = synthetic.load(NAME, seed=1, cache_dir=tmp_path)
+    second = synthetic.load(NAME, seed=1, cache_dir=tmp_path)
+    assert len(calls) == 1
+    assert synthetic.cache_path(NAME, seed=1, cache_dir=tmp_path).exists()
+    assert str(synthetic.GENERATOR_VERSION) in synthetic.cache_path(NAME, seed=1, cache_dir=tmp_path).name
+    for field in ("rotations", "translation", "joints", "starts", "actions", "modes", "subjects"):
+        assert np.array_equal(getattr(first, field), getattr(second, field))
+    assert second.mode_names == first.mode_names
+
+
+def test_unknown_variant_lists_valid_names():
+    with pytest.raises(ValueError, match="synth-humanact12"):
+        synthetic.generate("synth-nope")
+    with pytest.raises(ValueError, match="splits"):
+        synthetic.generate(NAME, "test")
