@@ -165,3 +165,14 @@ def test_unknown_variant_lists_valid_names():
         synthetic.generate("synth-nope")
     with pytest.raises(ValueError, match="splits"):
         synthetic.generate(NAME, "test")
+
+
+def test_preview_renders_a_still_grid_a_gif_and_a_filmstrip(tmp_path):
+    from jaxmotion.data import preview
+
+    data = synthetic.generate("synth-humanact12", count=36)
+    preview.render_grid(data, [0, 1], str(tmp_path / "grid.png"), still=True)
+    preview.render_grid(data, [3], str(tmp_path / "grid.gif"), max_frames=3)
+    preview.filmstrip(data[0], data.skeleton, str(tmp_path / "strip.png"), frames=3)
+    for name in ("grid.png", "grid.gif", "strip.png"):
+        assert (tmp_path / name).stat().st_size > 1000

@@ -4,9 +4,10 @@
     python -m jaxmotion.data.preview synth-humanact12 --classes 0,1,2 --out preview.png --png
 
 Rendering is matplotlib (Agg); the GIF uses matplotlib's PillowWriter. Colours: the subject's left
-side blue, right side red, midline black; the floor (y = 0) is grey. Views are orthographic: ``front``
-(looking at the subject's front, so their left is on the viewer's right), ``side`` (from their left)
-and ``three_quarter`` (3D).
+side blue, right side red, midline black; the floor (y = 0) is grey. 2D views are orthographic and never
+mirrored, with the subject turned to face +Z at frame 0: ``front`` (the subject's left on the viewer's
+right), ``side`` (seen from the subject's right, forward to the right) and ``oblique`` (in between); the
+GIF grid is 3D, each cell following its root.
 """
 
 from __future__ import annotations
@@ -24,7 +25,11 @@ from matplotlib.animation import FuncAnimation, PillowWriter
 from jaxmotion.data.motion import Motion, MotionDataset
 from jaxmotion.geometry.skeletons import Skeleton
 
-_VIEWS = {"front": (0, 1), "side": (2, 1)}  # projected (horizontal, vertical) world axes
+# Each view is the world direction drawn to the image's right (vertical is always +Y), in the frame where
+# the subject faces +Z. The camera then sits at right x up: front (+X right) looks at the subject's front,
+# side (+Z right) from the subject's right, oblique in between. None of them is mirrored.
+_VIEWS = {"front": np.array([1.0, 0.0, 0.0]), "side": np.array([0.0, 0.0, 1.0]),
+          "oblique": np.array([0.8, 0.0, 0.6])}
 _SIDE_COLOURS = {"left": "tab:blue", "right": "tab:red"}
 
 
@@ -41,13 +46,26 @@ def _bone_colours(skeleton: Skeleton) -> list[str]:
     return [_SIDE_COLOURS.get(_side_of(skeleton.joint_names[child]), "black") for _, child in skeleton.bones]
 
 
-def _draw_2d(ax, joints: np.ndarray, skeleton: Skeleton, view: str, shift: float = 0.0, alpha: float = 1.0):
-    """One pose ``[J, 3]`` projected on ``view``, moved ``shift`` along the horizontal axis."""
-    h, v = _VIEWS[view]
-    sign = -1.0 if view == "front" else 1.0  # front: the viewer faces the subject, their +X is on the right
-    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton)):
-        ax.plot([sign * joints[parent, h] + shift, sign * joints[child, h] + shift],
-                [joints[parent, v], joints[child, v]], color=colour, lw=2, alpha=alpha, solid_capstyle="round")
+def _draw_2d(ax, joints: np.ndarray, skeleton: Skeleton, view: str, shift: float = 0.0, lw: float = 2.0):
+    """One pose ``[J, 3]`` seen from ``view``, centred on its root and moved ``shift`` to the right."""
+    across = (joints - joints[0]) @ _VIEWS[view] + shift
+    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton), strict=True):
+        ax.plot([across[parent], across[child]], [joints[parent, 1], joints[child, 1]], color=colour, lw=lw,
+                solid_capstyle="round")
+
+
+def _strip(ax, joints: np.ndarray, skeleton: Skeleton, frames: np.ndarray, view: str, spacing: float,
+           lw: float = 2.0, labels: bool = True) -> None:
+    """Poses ``joints[frames]`` side by side on ``ax``, each centred on its own root, over the floor line."""
+    for k, f in enumerate(frames):
+        _draw_2d(ax, joints[f], skeleton, view, shift=k * spacing, lw=lw)
+        if labels:
+            ax.text(k * spacing, -0.12, f"{f}", ha="center", fontsize=7)
+    ax.axhline(0.0, color="0.6", lw=1)
+    ax.set_xlim(-0.6 * spacing, (len(frames) - 0.4) * spacing)
+    ax.set_ylim(-0.2, 2.2)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
 
 
 def _facing_viewer(joints: np.ndarray, skeleton: Skeleton) -> np.ndarray:
@@ -65,24 +83,13 @@ def _facing_viewer(joints: np.ndarray, skeleton: Skeleton) -> np.ndarray:
 def filmstrip(motion: Motion, skeleton: Skeleton, path: str, *, frames: int = 8, views=("front", "side"),
               title: str = "") -> None:
     """Save a PNG: ``frames`` evenly spaced poses side by side, one row per view, each pose centred on its
-    own root; the floor line and the lowest joint are drawn to show contact."""
+    own root; the floor line shows contact."""
     index = np.linspace(0, motion.num_frames - 1, frames).round().astype(int)
     joints = _facing_viewer(motion.joints, skeleton)
-    spacing = 1.0
     fig, axes = plt.subplots(len(views), 1, figsize=(1.3 * frames, 2.6 * len(views)), squeeze=False)
-    for ax, view in zip(axes[:, 0], views):
-        h = _VIEWS[view][0]
-        sign = -1.0 if view == "front" else 1.0
-        for k, f in enumerate(index):
-            pose = joints[f]
-            _draw_2d(ax, pose, skeleton, view, shift=k * spacing - sign * pose[0, h])
-            ax.text(k * spacing, -0.12, f"{f}", ha="center", fontsize=7)
-        ax.axhline(0.0, color="0.6", lw=1)
-        ax.set_xlim(-0.6, (frames - 1) * spacing + 0.6)
-        ax.set_ylim(-0.2, 2.2)
-        ax.set_aspect("equal")
+    for ax, view in zip(axes[:, 0], views, strict=True):
+        _strip(ax, joints, skeleton, index, view, spacing=1.0)
         ax.set_ylabel(view)
-        ax.set_xticks([])
     axes[0, 0].set_title(title, fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=80)
@@ -102,30 +109,33 @@ def _examples(data: MotionDataset, classes: Sequence[int]) -> list[list[tuple[in
     return rows
 
 
-def _grid_axes(rows, data: MotionDataset):
+def _grid_axes(rows, data: MotionDataset, *, three_d: bool, cell_width: float):
     width = max(len(r) for r in rows)
-    fig = plt.figure(figsize=(2.4 * width, 2.6 * len(rows)))
+    fig = plt.figure(figsize=(cell_width * width, 2.6 * len(rows)))
     cells = []
     for i, row in enumerate(rows):
         for j, (c, m, motion) in enumerate(row):
-            ax = fig.add_subplot(len(rows), width, i * width + j + 1, projection="3d", proj_type="ortho")
-            label = data.class_names[c] + (f"\n{data.mode_names[c][m]}" if data.mode_names else "")
+            options = {"projection": "3d", "proj_type": "ortho"} if three_d else {}
+            ax = fig.add_subplot(len(rows), width, i * width + j + 1, **options)
+            label = data.class_names[c] + (f" / {data.mode_names[c][m]}" if data.mode_names else "")
             ax.set_title(label, fontsize=8)
+            if not three_d:
+                ax.set_axis_off()
             cells.append((ax, motion))
     return fig, cells
 
 
-def _draw_3d(ax, joints: np.ndarray, skeleton: Skeleton, centre: np.ndarray) -> None:
+def _draw_3d(ax, joints: np.ndarray, skeleton: Skeleton) -> None:
+    """One pose ``[J, 3]`` in a 3D cell that follows the root, over a 2 m floor grid."""
     title = ax.get_title()
     ax.cla()
     ax.set_title(title, fontsize=8)
-    p = joints - np.array([centre[0], 0.0, centre[2]])
-    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton)):
+    p = joints - np.array([joints[0, 0], 0.0, joints[0, 2]])
+    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton), strict=True):
         # Library +Y up -> matplotlib's vertical z; world z (forward) -> plot y.
         ax.plot([p[parent, 0], p[child, 0]], [p[parent, 2], p[child, 2]], [p[parent, 1], p[child, 1]],
                 color=colour, lw=1.8)
-    g = np.linspace(-1.0, 1.0, 5)
-    for x in g:
+    for x in np.linspace(-1.0, 1.0, 5):
         ax.plot([x, x], [-1, 1], [0, 0], color="0.85", lw=0.6)
         ax.plot([-1, 1], [x, x], [0, 0], color="0.85", lw=0.6)
     ax.set_xlim(-1, 1)
@@ -137,23 +147,21 @@ def _draw_3d(ax, joints: np.ndarray, skeleton: Skeleton, centre: np.ndarray) -> 
 
 
 def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still: bool = False,
-                max_frames: int = 80) -> None:
-    """Save a grid (rows = classes, columns = modes; one example each) as an animated GIF, or with
-    ``still`` as a PNG of each example's key frames overlaid (start, 1/3, 2/3, end; later ones darker)."""
+                max_frames: int = 80, key_frames: int = 5) -> None:
+    """Save a grid (rows = classes, columns = modes; one example each): an animated GIF of 3D skeletons
+    following their root, or with ``still`` a PNG where each cell shows ``key_frames`` evenly spaced poses
+    side by side (oblique view, each centred on its root, facing the viewer at frame 0)."""
     rows = _examples(data, classes)
-    fig, cells = _grid_axes(rows, data)
     skeleton = data.skeleton
+    fig, cells = _grid_axes(rows, data, three_d=not still, cell_width=0.75 * key_frames if still else 2.4)
     if still:
         for ax, motion in cells:
-            if motion is None:
-                continue
-            centre = motion.joints[:, 0].mean(axis=0)
-            _draw_3d(ax, motion.joints[0], skeleton, centre)
-            for f in np.linspace(0, motion.num_frames - 1, 4).round().astype(int)[1:]:
-                p = motion.joints[f] - np.array([centre[0], 0.0, centre[2]])
-                for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton)):
-                    ax.plot([p[parent, 0], p[child, 0]], [p[parent, 2], p[child, 2]], [p[parent, 1], p[child, 1]],
-                            color=colour, lw=1.2, alpha=0.5)
+            if motion is not None:
+                index = np.linspace(0, motion.num_frames - 1, key_frames).round().astype(int)
+                _strip(ax, _facing_viewer(motion.joints, skeleton), skeleton, index, "oblique", spacing=0.9,
+                       lw=1.4, labels=False)
+                ax.set_axis_off()
+        fig.tight_layout()
         fig.savefig(path, dpi=70)
         plt.close(fig)
         return
@@ -162,8 +170,7 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
     def update(frame):
         for ax, motion in cells:
             if motion is not None:
-                f = min(frame, motion.num_frames - 1)
-                _draw_3d(ax, motion.joints[f], skeleton, motion.joints[f, 0])
+                _draw_3d(ax, motion.joints[min(frame, motion.num_frames - 1)], skeleton)
         return []
 
     FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps))
