@@ -176,3 +176,76 @@ def test_preview_renders_a_still_grid_a_gif_and_a_filmstrip(tmp_path):
     preview.filmstrip(data[0], data.skeleton, str(tmp_path / "strip.png"), frames=3)
     for name in ("grid.png", "grid.gif", "strip.png"):
         assert (tmp_path / name).stat().st_size > 1000
+
+
+# --- synth-ntu13 and synth-cmu -------------------------------------------------------------------------
+
+NTU13_CLASSES = ("pickup", "throw", "sitting down", "standing up", "cheer up", "hand waving", "kicking something",
+                 "salute", "squat down", "shake fist", "running on the spot", "butt kicks", "side kick")
+CMU_CLASSES = ("Walk", "Run", "Jump", "Animal Behavior", "Dance", "Step", "Climb")
+
+
+@pytest.fixture(scope="module", params=[("synth-ntu13", 102), ("synth-cmu", 80)], ids=lambda p: p[0])
+def other_sample(request):
+    """A prefix of each new variant with at least two sequences of every mode (three for NTU-13)."""
+    name, count = request.param
+    return synthetic.generate(name, count=count)
+
+
+def test_ntu13_and_cmu_layout():
+    ntu, cmu = synthetic.VARIANTS["synth-ntu13"], synthetic.VARIANTS["synth-cmu"]
+    assert ntu.class_names == NTU13_CLASSES and cmu.class_names == CMU_CLASSES
+    assert (ntu.fps, ntu.lengths, cmu.fps, cmu.lengths) == (20.0, (40, 150), 12.0, (100, 100))
+    assert tuple(ntu.splits) == tuple(cmu.splits) == ("train",)
+    assert ntu.splits["train"].num_sequences == 3900 and cmu.splits["train"].num_sequences == 970
+    assert all(2 <= len(c.modes) <= 4 for c in ntu.classes + cmu.classes)
+    counts = np.bincount(synthetic.engine.schedule(ntu, "train")[0])
+    assert len(counts) == 13 and counts.min() == counts.max() == 300
+
+
+def test_new_variants_every_mode_present_fk_and_limits(other_sample):
+    variant = synthetic.VARIANTS[other_sample.name]
+    for c, cls in enumerate(variant.classes):
+        assert set(other_sample.modes[other_sample.actions == c].tolist()) == set(range(len(cls.modes))), cls.name
+    offsets = np.stack([synthetic.subject_offsets(other_sample.name, int(s)) for s in other_sample.subjects])
+    joints = forward_kinematics(rotations.axis_angle_to_matrix(other_sample.rotations), other_sample.translation,
+                                np.repeat(offsets, other_sample.lengths, axis=0), SMPL24.parents)
+    np.testing.assert_allclose(np.asarray(joints), other_sample.joints, atol=1e-5)
+    angles = anatomy.rotmats_to_angles(np.asarray(rotations.axis_angle_to_matrix(other_sample.rotations), float))
+    assert np.all(angles >= anatomy.LIMITS[:, :, 0] - 0.05) and np.all(angles <= anatomy.LIMITS[:, :, 1] + 0.05)
+    assert other_sample.joints[..., 1].min() > -0.01
+
+
+def test_new_variants_modes_are_distinct(other_sample):
+    borrowed = {"throw", "sitting down"}  # the HumanAct12 classes' own code, checked on that variant above
+    for c in range(other_sample.num_classes):
+        if other_sample.class_names[c] in borrowed:
+            continue
+        idx = np.flatnonzero(other_sample.actions == c)
+        feats = np.stack([_features(other_sample[int(i)]) for i in idx])
+        modes = other_sample.modes[idx]
+        dist = np.linalg.norm(feats[:, None] - feats[None], axis=-1)
+        same = (modes[:, None] == modes[None]) & ~np.eye(len(idx), dtype=bool)
+        assert dist[~same & (modes[:, None] != modes[None])].mean() > dist[same].mean(), other_sample.class_names[c]
+
+
+def _paths(data, name):
+    """Root path length (m, horizontal) of every sequence of class ``name``."""
+    idx = np.flatnonzero(data.actions == data.class_names.index(name))
+    return np.array([np.linalg.norm(np.diff(data[int(i)].translation[:, [0, 2]], axis=0), axis=-1).sum()
+                     for i in idx])
+
+
+def test_new_variants_foot_sliding_and_travel(other_sample):
+    gaits = {"synth-ntu13": ("running on the spot", "butt kicks"), "synth-cmu": ("Walk", "Run")}[other_sample.name]
+    speeds = np.concatenate([foot_skate(other_sample[int(i)].joints, _TOES, other_sample.fps)
+                             for c in gaits for i in np.flatnonzero(other_sample.actions == _class(other_sample, c))])
+    assert len(speeds) > 100 and speeds.mean() < synthetic.FOOT_SKATE_TOLERANCE
+    if other_sample.name == "synth-cmu":
+        assert np.all(other_sample.lengths == 100)
+        assert _paths(other_sample, "Walk").min() > 5.0 and _paths(other_sample, "Run").min() > 10.0  # metres
+        assert np.median(_paths(other_sample, "Walk")) > 3.0 * np.median(_paths(other_sample, "Dance"))
+    else:  # on the spot: much less travel than walking
+        net = [np.linalg.norm(other_sample[int(i)].translation[-1, [0, 2]] - other_sample[int(i)].translation[0, [0, 2]])
+               for c in gaits for i in np.flatnonzero(other_sample.actions == _class(other_sample, c))]
+        assert max(net) < 1.5

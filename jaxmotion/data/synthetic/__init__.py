@@ -37,12 +37,14 @@ import numpy as np
 
 from jaxmotion.data.motion import MotionDataset, concatenate
 from jaxmotion.data.synthetic import humanact12
+from jaxmotion.data.synthetic import cmu
+from jaxmotion.data.synthetic import ntu13
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
 
 __all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "generate", "load",
            "subject_offsets"]
 
-GENERATOR_VERSION = 1
+GENERATOR_VERSION = 2  # 2: angles -> rotations in float32 jax (stored values move by float32 rounding)
 #: Mean toe-joint horizontal speed (m/s) allowed on floor-contact frames of walking and running.
 FOOT_SKATE_TOLERANCE = 0.08
 
@@ -50,6 +52,19 @@ VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
     "synth-humanact12": Variant(
         name="synth-humanact12", classes=humanact12.CLASSES, fps=20.0, lengths=(40, 150),
         splits=MappingProxyType({"train": Split(num_sequences=1200, subjects=tuple(range(12)))}),
+    ),
+    # NTU-13: 3 902 clips in the real set, used for both training and testing (FACTS 1.1), so "train" is
+    # the whole set; 40 performers as in NTU RGB+D.
+    "synth-ntu13": Variant(
+        name="synth-ntu13", classes=ntu13.CLASSES, fps=20.0, lengths=(40, 150),
+        splits=MappingProxyType({"train": Split(num_sequences=3900, subjects=tuple(range(40)))}),
+    ),
+    # CMU mocap as A2M/ODMO use it: 970 clips of 7 classes at 12 fps, all "train" (FACTS 1.2); 100-frame
+    # clips (~8.3 s), class shares locomotion-heavy (est.), ~20 performers. The real set stores 20 joints;
+    # the stand-in keeps the SMPL-24 rotations and joints of every other variant.
+    "synth-cmu": Variant(
+        name="synth-cmu", classes=cmu.CLASSES, fps=12.0, lengths=(100, 100),
+        splits=MappingProxyType({"train": Split(num_sequences=970, subjects=tuple(range(20)))}),
     ),
 })
 

@@ -1,18 +1,20 @@
-"""Turning variant specs into packed datasets: per-sequence generators, posing, FK, grounding.
+"""Turning variant specs into packed datasets: per-sequence generators, posing, FK, grounding, noise.
 
 Per sequence (numpy, vectorised over frames): its own generator from ``SeedSequence([seed, variant,
 split, index])`` picks the subject and length; the class's ``perform`` builds anatomical angles and the
 foot support; :func:`take.finish` adds secondary motion and applies the joint limits. Per chunk of
-sequences (jax, all frames at once): rotations -> float32 axis-angle (what is stored), FK about the
-origin, then per sequence the root path (:mod:`grounding`), then FK again from exactly the stored
-float32 rotations and translation, so ``joints == forward_kinematics(rotations)``.
+sequences (jax, all frames at once, always ``_CHUNK_FRAMES`` of them so each pass compiles once): angles
+-> rotations -> FK about the origin; then per sequence the root path (:mod:`grounding`), which a
+variant's capture-noise model may perturb along with the angles; finally angles -> float32 axis-angle
+(what is stored) -> FK along the root path from exactly those rotations, so ``joints ==
+forward_kinematics(rotations, translation)``.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import zlib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 
 import jax
 import jax.numpy as jnp
@@ -33,8 +35,8 @@ _PARENTS = SMPL24.parents
 _ANKLES = (SMPL24.index("left_ankle"), SMPL24.index("right_ankle"))
 _TOES = (SMPL24.index("left_foot"), SMPL24.index("right_foot"))
 _SUBJECT_STREAM = 1_000_003  # keeps subject generators apart from the per-split sequence generators
-_CHUNK_SEQUENCES = 512
-_FRAME_BUCKET = 8192  # pad frame batches to a multiple of this, so jit compiles only a few shapes
+# Every FK batch is padded to exactly this many frames (about 340 sequences), so it compiles once.
+_CHUNK_FRAMES = 32768
 
 
 @dataclasses.dataclass(frozen=True)
@@ -65,8 +67,10 @@ class Variant:
       fps: frame rate.
       lengths: ``(min, max)`` sequence length in frames (inclusive), drawn uniformly per sequence.
       splits: split name -> :class:`Split`.
-      noise: optional ``(angles [T, J, 3], translation [T, 3], rng) -> (angles, translation)`` capture-noise
-        model applied to the finished motion (before the final FK), or None for clean motion.
+      noise: optional capture-noise model ``(angles [T, J, 3], translation [T, 3], joints [T, J, 3], subject,
+        fps, rng) -> (angles, translation)``: from the clean anatomical angles (degrees), the grounded root
+        path and the clean body posed about the origin, the noisy angles (within the joint limits) and
+        root path that are stored; None for clean motion.
     """
 
     name: str
@@ -118,7 +122,7 @@ def schedule(variant: Variant, split: str) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclasses.dataclass(frozen=True)
 class _Posed:
-    rotmats: np.ndarray  # [T, J, 3, 3]
+    angles: np.ndarray  # [T, J, 3] degrees, within the joint limits
     contact: np.ndarray  # [T, 2]
     heading: np.ndarray  # [T] radians
     flight_speed: float
@@ -127,45 +131,98 @@ class _Posed:
     rng: np.random.Generator
 
 
-def _perform(variant: Variant, split: str, seed: int, index: int, action: int, mode: int) -> _Posed:
+def _perform(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
+             bodies: Mapping[int, Subject]) -> _Posed:
     rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.name), _key(split), index]))
-    who = subject(variant, int(rng.choice(variant.splits[split].subjects)), seed)
+    who = bodies[int(rng.choice(variant.splits[split].subjects))]
     num_frames = int(rng.integers(variant.lengths[0], variant.lengths[1] + 1))
     cls = variant.classes[action]
     take = Take(num_frames, variant.fps, rng, who, cls.modes[mode])
     cls.perform(take)
     angles = finish(take)
-    return _Posed(anatomy.angles_to_rotmats(angles), take.contact, np.radians(angles[:, 0, 0]),
-                  take.flight_speed, take.flight_carry, who, rng)
+    return _Posed(angles, take.contact, np.radians(angles[:, 0, 0]), take.flight_speed, take.flight_carry,
+                  who, rng)
+
+
+# --- jax passes over a chunk of frames -------------------------------------------------------------------
+
+
+def _matmul3(a, b):
+    """``[..., 3, 3] @ [..., 3, 3]`` written out entry by entry: XLA's CPU backend runs this elementwise
+    form several times faster than batched 3x3 dots (and its fused broadcast-multiply-reduce form is
+    miscompiled by jaxlib 0.10.2's YNNPACK fusion)."""
+    return jnp.stack([jnp.stack([a[..., i, 0] * b[..., 0, k] + a[..., i, 1] * b[..., 1, k] + a[..., i, 2] * b[..., 2, k]
+                                 for k in range(3)], axis=-1) for i in range(3)], axis=-2)
+
+
+def _skews(axes: np.ndarray) -> np.ndarray:
+    """``[J, 3, 3]`` cross-product matrices K of the coordinate axes ``axes [J]`` (0, 1, 2 = x, y, z)."""
+    k = np.zeros((len(axes), 3, 3), np.float32)
+    i, j = (axes + 1) % 3, (axes + 2) % 3
+    k[np.arange(len(axes)), j, i] = 1.0
+    k[np.arange(len(axes)), i, j] = -1.0
+    return k
+
+
+# The tables of :func:`anatomy.angles_to_rotmats`, for its float32 jax twin :func:`_rotmats`.
+_EULER_SKEWS = tuple(_skews(anatomy._EULER_AXES[:, n]) for n in range(3))
+_EULER_FROM_CHANNELS = anatomy._EULER_FROM_CHANNELS.astype(np.float32)
+_MIRROR_SIGNS = anatomy._MIRROR_SIGNS.astype(np.float32)
+_BASE = anatomy._BASE.astype(np.float32)
+
+
+def _rotmats(angles):
+    """:func:`anatomy.angles_to_rotmats` in float32 jax: ``[F, J, 3]`` degrees -> ``[F, J, 3, 3]``."""
+    rad = angles * np.float32(np.pi / 180.0)
+    r = None
+    for n, skew in enumerate(_EULER_SKEWS):  # R = R_a0 R_a1 R_a2, each by Rodrigues about a fixed axis
+        euler = sum(_EULER_FROM_CHANNELS[:, n, c] * rad[..., c] for c in range(3))[..., None, None]
+        step = np.eye(3, dtype=np.float32) + jnp.sin(euler) * skew + (1.0 - jnp.cos(euler)) * (skew @ skew)
+        r = step if r is None else _matmul3(r, step)
+    r = _matmul3(r * _MIRROR_SIGNS, _BASE)
+    collars = jnp.swapaxes(r[:, anatomy._COLLARS], -1, -2)
+    return r.at[:, anatomy._SHOULDERS].set(_matmul3(collars, r[:, anatomy._SHOULDERS]))
 
 
 @jax.jit
-def _pose_about_origin(rotmats, offsets):
-    """``[F, J, 3, 3]`` f32, ``[F, J, 3]`` -> stored axis-angle, its FK about the origin, ankle rotations."""
-    axis_angle = rotations.matrix_to_axis_angle(rotmats)
+def _pose_about_origin(angles, offsets):
+    """``[F, J, 3]`` degrees, ``[F, J, 3]`` offsets -> (joints about the origin, ankles' global rotations)."""
     global_rot, joints = forward_kinematics_transforms(
-        rotations.axis_angle_to_matrix(axis_angle), jnp.zeros(rotmats.shape[:1] + (3,)), offsets, _PARENTS)
-    return axis_angle, joints, global_rot[:, list(_ANKLES)]
+        _rotmats(angles), jnp.zeros(angles.shape[:1] + (3,)), offsets, _PARENTS)
+    return joints, global_rot[:, list(_ANKLES)]
 
 
 @jax.jit
-def _pose_in_world(axis_angle, translation, offsets):
-    return forward_kinematics(rotations.axis_angle_to_matrix(axis_angle), translation, offsets, _PARENTS)
+def _pose_in_world(angles, translation, offsets):
+    """-> (stored float32 axis-angle ``[F, J, 3]``, its FK along ``translation``)."""
+    axis_angle = rotations.matrix_to_axis_angle(_rotmats(angles))
+    return axis_angle, forward_kinematics(rotations.axis_angle_to_matrix(axis_angle), translation, offsets,
+                                          _PARENTS)
 
 
 def _padded(array: np.ndarray) -> np.ndarray:
-    pad = -len(array) % _FRAME_BUCKET
-    return np.concatenate([array, np.zeros((pad,) + array.shape[1:], array.dtype)]) if pad else array
+    """``array [F, ...]`` zero-padded to ``[_CHUNK_FRAMES, ...]`` float32."""
+    out = np.zeros((_CHUNK_FRAMES,) + array.shape[1:], np.float32)
+    out[: len(array)] = array
+    return out
+
+
+def _on_chunk(fn, *arrays: np.ndarray):
+    """``fn`` of ``F <= _CHUNK_FRAMES`` frames, run on the padded chunk: numpy in, numpy (F frames) out."""
+    return jax.tree.map(lambda a: np.asarray(a)[: len(arrays[0])], fn(*(_padded(a) for a in arrays)))
 
 
 def _chunk(variant: Variant, posed: list[_Posed]):
-    """FK, grounding and (optional) capture noise for a list of posed sequences."""
-    lengths = [len(p.rotmats) for p in posed]
+    """FK, grounding and (optional) capture noise for posed sequences of at most ``_CHUNK_FRAMES`` frames.
+
+    The clean body is posed about the origin and grounded; a noise model then perturbs its angles and
+    root path; the stored rotations are posed along that path.
+    """
+    lengths = [len(p.angles) for p in posed]
     starts = np.concatenate([[0], np.cumsum(lengths)])
-    rotmats = np.concatenate([p.rotmats for p in posed]).astype(np.float32)
     offsets = np.concatenate([np.broadcast_to(p.subject.offsets, (n, 24, 3)) for p, n in zip(posed, lengths)])
-    axis_angle, about_origin, ankle_rot = (np.asarray(a)[: starts[-1]] for a in _pose_about_origin(
-        _padded(rotmats), _padded(offsets)))
+    angles = np.concatenate([p.angles for p in posed])
+    about_origin, ankle_rot = _on_chunk(_pose_about_origin, angles, offsets)
     translation = np.zeros((starts[-1], 3), np.float32)
     for i, p in enumerate(posed):
         frames = slice(starts[i], starts[i + 1])
@@ -177,10 +234,23 @@ def _chunk(variant: Variant, posed: list[_Posed]):
         root = grounding.root_translation(soles, p.contact, p.heading, variant.fps, p.flight_speed,
                                             p.flight_carry)
         if variant.noise is not None:
-            axis_angle[frames], root = variant.noise(axis_angle[frames], root, p.rng)
+            angles[frames], root = variant.noise(p.angles, root, joints, p.subject, variant.fps, p.rng)
         translation[frames] = root
-    joints = np.asarray(_pose_in_world(_padded(axis_angle), _padded(translation), _padded(offsets)))[: starts[-1]]
+    axis_angle, joints = _on_chunk(_pose_in_world, angles, translation, offsets)
     return axis_angle, translation, joints, starts
+
+
+def _batches(posed: Iterator[_Posed]) -> Iterator[list[_Posed]]:
+    """Consecutive runs of posed sequences with at most ``_CHUNK_FRAMES`` frames in all."""
+    batch, frames = [], 0
+    for p in posed:
+        if batch and frames + len(p.angles) > _CHUNK_FRAMES:
+            yield batch
+            batch, frames = [], 0
+        batch.append(p)
+        frames += len(p.angles)
+    if batch:
+        yield batch
 
 
 def generate_split(variant: Variant, split: str, seed: int, count: int | None = None) -> MotionDataset:
@@ -188,12 +258,12 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
     actions, modes = schedule(variant, split)
     if count is not None:
         actions, modes = actions[:count], modes[:count]
+    bodies = {s: subject(variant, s, seed) for s in variant.splits[split].subjects}
+    posed = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
     parts, subjects = [], []
-    for lo in range(0, len(actions), _CHUNK_SEQUENCES):
-        idx = range(lo, min(lo + _CHUNK_SEQUENCES, len(actions)))
-        posed = [_perform(variant, split, seed, i, int(actions[i]), int(modes[i])) for i in idx]
-        subjects += [p.subject.index for p in posed]
-        parts.append(_chunk(variant, posed))
+    for batch in _batches(posed):
+        subjects += [p.subject.index for p in batch]
+        parts.append(_chunk(variant, batch))
     lengths = np.concatenate([np.diff(p[3]) for p in parts]) if parts else np.zeros(0, int)
     empty = np.zeros((0, 24, 3), np.float32)
     return MotionDataset(

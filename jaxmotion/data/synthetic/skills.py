@@ -341,3 +341,268 @@ def beats(take: Take, period: float, *, jitter: float = 0.15, first: float | Non
         times.append(t)
         t += period * (1.0 + take.rng.normal(0.0, jitter))
     return np.array(times)
+
+
+# --- in-place stepping, folding, kicking, steering (NTU-13 and CMU classes) ------------------------------
+
+# Running on the spot: during stance the hip flexes by about half the knee flexion, which keeps the foot
+# under the hip (no travel); the thigh swings forward to ~50 degrees (MOTION_FACTS 4; high knees: size ~1.8).
+SPOT_RUN = GaitCurves(
+    hip=((0.0, 0.15, 0.37, 0.55, 0.7, 0.9), (12.0, 20.0, 10.0, 30.0, 50.0, 22.0)),
+    knee=((0.0, 0.15, 0.37, 0.55, 0.7, 0.9), (25.0, 40.0, 20.0, 80.0, 90.0, 45.0)),
+    ankle=((0.0, 0.15, 0.37, 0.55, 0.8), (-10.0, 8.0, -25.0, -20.0, -12.0)),
+    duty=0.4, ramp=0.04, elbow=85.0, arm_swing=24.0, lean=4.0,
+)
+# Butt kicks: the thigh stays near vertical while the heel flies up to the buttock (knee >= 130 degrees).
+BUTT_KICKS = GaitCurves(
+    hip=((0.0, 0.15, 0.37, 0.6, 0.85), (12.0, 20.0, 10.0, 14.0, 14.0)),
+    knee=((0.0, 0.15, 0.37, 0.5, 0.65, 0.85), (25.0, 40.0, 20.0, 100.0, 140.0, 60.0)),
+    ankle=((0.0, 0.15, 0.37, 0.6, 0.85), (-10.0, 8.0, -25.0, -30.0, -10.0)),
+    duty=0.4, ramp=0.04, elbow=80.0, arm_swing=18.0, lean=3.0,
+)
+
+# Segment masses (fractions of body mass) and centre-of-mass positions, Winter's tables (est. rounding):
+# head-arms-trunk 0.68 with its centre ~0.32 m above the hips, thighs 0.2 at 0.43 of their length from the
+# hip, shanks 0.09 at 0.43 from the knee.
+_HAT, _THIGHS, _SHANKS, _HAT_RISE = 0.68, 0.2, 0.09, 0.32
+
+
+def _shank_lean(knee, lean, heel, scale):
+    """Forward lean of the shanks (degrees) that puts the body's centre of mass over the mid-foot (over
+    the balls when the heels are up), given knee flexion and trunk lean ``[T]`` (degrees): bisection on the
+    sagittal stick model, whose centre of mass moves forward monotonically with the shank lean."""
+    thigh_len, shank_len = 0.39 * scale, 0.41 * scale
+    k, lam = np.radians(knee), np.radians(lean)
+    target = scale * (0.05 + 0.002 * np.asarray(heel, float))
+
+    def com(s):
+        knee_x = shank_len * np.sin(s)
+        hip_x = knee_x - thigh_len * np.sin(k - s)
+        return (_HAT * (hip_x + _HAT_RISE * scale * np.sin(lam)) + _THIGHS * (hip_x + 0.57 * (knee_x - hip_x))
+                + _SHANKS * 0.57 * knee_x) / (_HAT + _THIGHS + _SHANKS)
+
+    lo, hi = np.full_like(k, np.radians(-20.0)), np.full_like(k, np.radians(60.0))
+    for _ in range(24):
+        mid = 0.5 * (lo + hi)
+        ahead = com(mid) > target
+        lo, hi = np.where(ahead, lo, mid), np.where(ahead, mid, hi)
+    return np.degrees(0.5 * (lo + hi))
+
+
+def crouch(take: Take, knee, lean, *, heel=0.0) -> None:
+    """Fold the legs and the trunk with the body balanced over the feet (MOTION_FACTS 3.4: the trunk leans
+    as the hips go back): squats, stoops, knee bounces, a crouched gait.
+
+    Args:
+      knee: ``[T]`` knee flexion of both legs, degrees.
+      lean: ``[T]`` forward lean of the trunk from vertical, degrees: the pelvis takes up to half of it (less
+        when the hips run out of flexion, as in deep squats), the lumbar and thoracic spine the rest.
+      heel: ``[T]`` heel raise, degrees (deep squats on the balls of the feet).
+
+    The shanks lean forward by whatever keeps the centre of mass over the feet; the hips flex to match
+    (thigh inclination = knee flexion - shank lean), the ankles dorsiflex by the shank lean less the heel
+    raise; deep knee flexion turns the knees a little out.
+    """
+    knee, lean = np.broadcast_to(knee, take.t.shape), np.broadcast_to(lean, take.t.shape)
+    heel = np.broadcast_to(heel, take.t.shape)
+    shank = _shank_lean(knee, lean, heel, take.scale())
+    thigh = knee - shank
+    tilt = np.minimum(0.5 * lean, 118.0 - thigh)
+    rest = lean - tilt
+    take["pelvis.tilt"] += tilt
+    take["spine1.flex"] += 0.5 * rest
+    take["spine2.flex"] += 0.3 * rest
+    take["spine3.flex"] += 0.2 * rest
+    for side in SIDES:
+        take[f"{side}_hip.flex"] += thigh + tilt
+        take[f"{side}_knee.flex"] += knee
+        take[f"{side}_ankle.dorsi"] += shank - heel
+        take[f"{side}_hip.abd"] += 0.1 * knee
+        take[f"{side}_hip.rot"] -= 0.08 * knee
+
+
+def kick(take: Take, side: str, start: float, *, height: float = 1.0, lateral: float = 0.0,
+         duration: float = 1.0) -> float:
+    """A kick with ``side``'s leg from standing (MOTION_FACTS 3.5 and 4), over ``duration`` s from ``start``;
+    returns the time the foot is back down.
+
+    ``lateral`` 0 is a front kick: the weight moves onto the other foot, the leg swings back with the
+    knee folded, the thigh drives forward and stops as the shank whips straight, recoil, foot down.
+    ``lateral`` 1 is a side kick: the knee chambers, the hip abducts and turns in, the knee extends
+    sideways while the pelvis tips up on the kicking side and the trunk leans away. ``height`` scales the
+    leg's elevation (1: hip flexion ~80 degrees, or ~70 degrees sideways).
+    """
+    keys = start + duration * np.array([0.0, 0.15, 0.4, 0.55, 0.72, 1.0])
+
+    def curve(*values):
+        return timing.keyframes(take.t, keys, values)
+
+    f, s, h = 1.0 - lateral, lateral, height * take.amp
+    support = other(side)
+    sign = 1.0 if side == "left" else -1.0  # pelvis obliquity and trunk bend are signed toward the left
+    take[f"{side}_hip.flex"] += f * curve(0, -12, 35, 80 * h, 55, 0) + s * curve(0, 10, 75, 35, 65, 0)
+    take[f"{side}_knee.flex"] += f * curve(0, 60, 100, 8, 70, 0) + s * curve(0, 30, 125, 8, 110, 0)
+    take[f"{side}_ankle.dorsi"] += f * curve(0, -15, -20, -35, -15, 0) + s * curve(0, 0, 10, 10, 5, 0)
+    take[f"{side}_hip.abd"] += s * curve(0, 5, 25, 45 * h, 25, 0)
+    take[f"{side}_hip.rot"] += s * curve(0, 5, 30, 40, 30, 0)
+    tip = s * curve(0, 3, 10, 25 * h, 12, 0)  # kicking side's hip rises
+    take["pelvis.obliquity"] += sign * tip
+    take[f"{support}_hip.abd"] += tip  # keeps the standing leg vertical under the tipped pelvis
+    take["spine1.bend"] -= sign * 0.4 * tip
+    take["spine2.bend"] -= sign * 0.3 * tip
+    take["spine1.flex"] -= f * curve(0, 0, 5, 12 * h, 8, 0)  # leaning back counters the leg
+    take[f"{support}_knee.flex"] += curve(0, 10, 12, 15, 12, 0)
+    take[f"{support}_hip.flex"] += curve(0, 6, 8, 10, 8, 0)
+    take[f"{support}_ankle.dorsi"] += curve(0, 5, 6, 8, 6, 0)
+    lifted = timing.keyframes(take.t, [keys[0], keys[1], keys[4], keys[5]], [0.0, 1.0, 1.0, 0.0])
+    take.contact[:, SIDES.index(side)] *= 1.0 - lifted
+    return float(keys[-1])
+
+
+def steer(take: Take, rate: np.ndarray) -> None:
+    """Turn the body by ``rate [T]`` degrees per second (+ = to the subject's left), leaning into the turn."""
+    take["pelvis.heading"] += np.concatenate([[0.0], np.cumsum(rate[:-1])]) / take.fps
+    take["pelvis.obliquity"] -= rate / 15.0
+
+
+def side_steps(take: Take, phase: np.ndarray, *, width: float, travel: int = 0) -> None:
+    """Stepping sideways to ``phase [T]`` (one unit = one step): shift the weight, the leading foot steps out
+    ``width`` degrees of hip abduction, the weight moves over, the other foot closes beside it. ``travel``
+    +1 keeps going to the subject's left, -1 to the right, 0 alternates (step-touch, as in dancing)."""
+    step = np.floor(phase).astype(int)
+    to_left = (step % 2 == 0) if travel == 0 else np.full(step.shape, travel > 0)
+    p = phase - step
+    keys = [0.0, 0.1, 0.4, 0.55, 0.85, 1.0]
+    w = width * take.amp
+    lead = {"abd": timing.keyframes(p, keys, [0, 0, w, 0.5 * w, 0, 0]),
+            "lift": timing.keyframes(p, [0.1, 0.25, 0.4], [0, 1, 0]),
+            "weight": timing.keyframes(p, keys, [0.5, 0, 0, 1, 1, 0.5])}
+    trail = {"abd": timing.keyframes(p, keys, [0, 0, 0, 0.5 * w, 0, 0]),
+             "lift": timing.keyframes(p, [0.55, 0.7, 0.85], [0, 1, 0]),
+             "weight": 1.0 - lead["weight"]}
+    for k, side in enumerate(SIDES):
+        mine = {key: np.where(to_left == (side == "left"), lead[key], trail[key]) for key in lead}
+        take[f"{side}_hip.abd"] += mine["abd"]
+        take[f"{side}_hip.flex"] += 15.0 * mine["lift"]
+        take[f"{side}_knee.flex"] += 30.0 * mine["lift"]
+        take.contact[:, k] = mine["weight"]
+    lean = 3.0 * (take.contact[:, 0] - take.contact[:, 1])  # the pelvis drops away from the stance hip
+    take["pelvis.obliquity"] += lean
+    take["left_hip.abd"] -= lean
+    take["right_hip.abd"] += lean
+
+
+def in_place(take: Take) -> None:
+    """Re-aim each weight-bearing leg's hip flexion so that the ball of its foot stays under the hip at
+    its standing distance (sagittal stick model; the weight share blends it in), turning a stepping or
+    running pattern into one without travel: running on the spot, butt kicks, marching. Call it after the
+    leg and pelvis angles are set."""
+    s = take.scale()
+    thigh, shank, toe = 0.39 * s, 0.41 * s, s * np.array([0.121, -0.052])  # ankle -> ball at rest
+    tilt = take["pelvis.tilt"]
+    # It also fades in over the ~0.2 s before each stance, so that a landing foot comes straight down under
+    # the hip (but not after toe-off, where the swing is left free).
+    ahead = max(round(0.2 * take.fps), 1)
+    for k, side in enumerate(SIDES):
+        total = np.concatenate([[0.0], np.cumsum(np.concatenate([take.contact[:, k], np.zeros(ahead)]))])
+        coming = (total[1 + ahead:] - total[1:-ahead]) / ahead  # mean share over the next `ahead` frames
+        weight = np.minimum(1.0, np.maximum(take.contact[:, k], 3.0 * coming))
+        knee = np.radians(take[f"{side}_knee.flex"])
+        dorsi = np.radians(take[f"{side}_ankle.dorsi"])
+        # thigh sin(a) + shank sin(a - knee) = R sin(a - g); the foot adds its own reach, rotated by the
+        # shank's inclination a - knee plus the dorsiflexion: a few fixed-point passes.
+        r = np.hypot(thigh + shank * np.cos(knee), shank * np.sin(knee))
+        g = np.arctan2(shank * np.sin(knee), thigh + shank * np.cos(knee))
+        a = g
+        for _ in range(3):
+            foot = a - knee + dorsi
+            ball = toe[0] * np.cos(foot) - toe[1] * np.sin(foot)
+            a = g + np.arcsin(np.clip((toe[0] - ball) / r, -1.0, 1.0))
+        under = np.degrees(a) + tilt
+        take[f"{side}_hip.flex"] += weight * (under - take[f"{side}_hip.flex"])
+    take.flight_carry = 0.0  # flights go straight up
+
+
+# --- repeated exercises: cycles, knee lifts, punches, arm circles, trunk turns and bends (UESTC) ---------
+
+
+def cycles(take: Take, low: float, high: float, *, reps: tuple[float, float] = (2.0, 3.0)) -> np.ndarray:
+    """Phase ``[T]`` (cycles) of an exercise repeated ``reps`` times over the clip, as UESTC subjects did
+    (MOTION_FACTS 4: 3 repetitions per ~6 s recording), its period held within the natural ``[low, high]``
+    seconds (over the subject's tempo) and drifting a little. The clip opens in the rest at the end of a
+    cycle, so a repetition starts from the neutral posture."""
+    period = np.clip(take.duration / take.uniform(*reps), low / take.tempo, high / take.tempo)
+    return timing.warped_phase(take.t, 1.0 / period, take.rng, wobble=0.05, start=-take.uniform(0.0, 0.2))
+
+
+def pulse(phase: np.ndarray, rise: float, hold: float, fall: float) -> np.ndarray:
+    """``[T]`` one 0 -> 1 -> 0 movement per cycle of ``phase``: up over the first ``rise`` of the cycle, held
+    for ``hold``, down over ``fall``, then at rest for what is left (all fractions of a cycle)."""
+    return timing.keyframes(np.mod(phase, 1.0), np.cumsum([0.0, rise, hold, fall]), [0.0, 1.0, 1.0, 0.0])
+
+
+def alternating(phase: np.ndarray, side: str | None) -> dict[str, np.ndarray]:
+    """``{side: [T]}`` 1 on the cycles of ``phase`` that side performs: every cycle for ``side``, or (None)
+    left on even cycles and right on odd ones."""
+    left = np.floor(phase) % 2 == 0 if side is None else np.full(phase.shape, side == "left")
+    return {"left": left.astype(float), "right": 1.0 - left}
+
+
+def trunk_pitch(take: Take) -> np.ndarray:
+    """``[T]`` forward inclination of the thorax from vertical so far, degrees."""
+    return take["pelvis.tilt"] + take["spine1.flex"] + take["spine2.flex"] + take["spine3.flex"]
+
+
+def hang_arm(take: Take, side: str, forward=0.0) -> None:
+    """``side``'s arm hanging plumb whatever the trunk's lean (plus ``forward`` degrees of flexion)."""
+    set_arm(take, side, trunk_pitch(take) + forward, 6.0, elbow=take.subject.arm_carry)
+
+
+def turn_trunk(take: Take, angle) -> None:
+    """Rotate the trunk ``angle [T]`` degrees (+ = to the subject's left) above still feet: mostly the
+    thoracic spine (MOTION_FACTS 2: thoracic ~30 per side, lumbar less), a fifth the pelvis, which the
+    hips undo so the legs keep facing forward; the head goes along."""
+    for joint, share in (("spine1", 0.15), ("spine2", 0.35), ("spine3", 0.3)):
+        take[f"{joint}.twist"] += share * angle
+    take["pelvis.heading"] += 0.2 * angle
+    take["left_hip.rot"] += 0.2 * angle  # turning the pelvis left rotates the left thigh inwards
+    take["right_hip.rot"] -= 0.2 * angle
+
+
+def bend_trunk(take: Take, angle) -> None:
+    """Bend the trunk sideways ``angle [T]`` degrees (+ = toward the left) over the lumbar and thoracic
+    spine (MOTION_FACTS 2: lumbar lateral bend 15-20, thoracic less); the hips shift the other way."""
+    for joint, share in (("spine1", 0.45), ("spine2", 0.33), ("spine3", 0.22)):
+        take[f"{joint}.bend"] += share * angle
+    take["pelvis.obliquity"] -= 0.1 * angle
+    take["left_hip.abd"] += 0.1 * angle
+    take["right_hip.abd"] -= 0.1 * angle
+
+
+def lift_knee(take: Take, side: str, env: np.ndarray, *, hip: float = 90.0, knee: float = 90.0) -> None:
+    """Raise ``side``'s knee as ``env [T]`` goes 0 -> 1 to ``hip`` and ``knee`` flexion (degrees), balanced on
+    the other leg, whose knee softens; the foot leaves the floor once the lift is under way."""
+    take[f"{side}_hip.flex"] += hip * env
+    take[f"{side}_knee.flex"] += knee * env
+    take[f"{side}_ankle.dorsi"] -= 15.0 * env  # the foot hangs
+    take[f"{other(side)}_knee.flex"] += 6.0 * env
+    take[f"{other(side)}_hip.flex"] += 4.0 * env
+    take.contact[:, SIDES.index(side)] *= 1.0 - timing.minimum_jerk(env / 0.15)
+
+
+def punch(take: Take, side: str, env: np.ndarray, *, extension: float = 0.95) -> None:
+    """``side``'s fist from the guard at the chin straight ahead at shoulder height as ``env [T]`` goes
+    0 -> 1; the forearm pronates and the trunk turns into the punch (MOTION_FACTS 3.5)."""
+    guard = landmark(take, "chin") + take.scale() * np.array([0.0, -0.04, 0.03])
+    reach(take, side, guard + env[:, None] * (straight_ahead(take, extension) - guard),
+          elbow_hint=(0.5, -1.0, -0.2))
+    take[f"{side}_elbow.pron"] = 60.0 * env
+    turn_trunk(take, (-15.0 if side == "left" else 15.0) * env)  # a right punch turns the trunk left
+
+
+def circle_arm(take: Take, side: str, phase: np.ndarray, *, flex: float, abd: float, radius: float,
+               elbow=5.0) -> None:
+    """``side``'s upper arm circling ``radius`` degrees around the direction (``flex``, ``abd``) once per
+    cycle of ``phase``; both arms on one phase circle mirror-symmetrically."""
+    cycle = 2.0 * np.pi * phase
+    set_arm(take, side, flex + radius * np.sin(cycle), abd + radius * np.cos(cycle), elbow=elbow)
