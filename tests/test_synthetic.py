@@ -249,3 +249,93 @@ def test_new_variants_foot_sliding_and_travel(other_sample):
         net = [np.linalg.norm(other_sample[int(i)].translation[-1, [0, 2]] - other_sample[int(i)].translation[0, [0, 2]])
                for c in gaits for i in np.flatnonzero(other_sample.actions == _class(other_sample, c))]
         assert max(net) < 1.5
+
+
+# --- synth-uestc ---------------------------------------------------------------------------------------
+
+UESTC = "synth-uestc"
+UESTC_PER_CLASS = 8  # sequences per class in the shared pair: every mode at least twice
+
+
+@pytest.fixture(scope="module")
+def uestc_pair():
+    """A prefix of synth-uestc's train split as stored (noisy) and from the same generator without noise."""
+    import dataclasses
+
+    variant = synthetic.VARIANTS[UESTC]
+    count = UESTC_PER_CLASS * len(variant.classes)
+    clean = synthetic.engine.generate_split(dataclasses.replace(variant, noise=None), "train", 0, count)
+    return synthetic.generate(UESTC, count=count), clean
+
+
+def test_uestc_classes_modes_and_splits():
+    from jaxmotion.data.formats import uestc as uestc_format
+
+    variant = synthetic.VARIANTS[UESTC]
+    assert variant.class_names == uestc_format.CLASS_NAMES and len(variant.classes) == 40
+    assert (variant.fps, variant.lengths) == (20.0, (40, 150))
+    assert all(2 <= len(c.modes) <= 4 and len(set(c.modes)) == len(c.modes) for c in variant.classes)
+    seated = [i for i, c in enumerate(variant.classes) if any("seated" in m for m in c.modes)]
+    assert len(seated) == 15 and min(seated) >= 10  # 15 of actions 10-39 were done seated by half the subjects
+    train, test = variant.splits["train"], variant.splits["test"]
+    assert (train.num_sequences, test.num_sequences) == (10650, 13350)
+    assert set(train.subjects) == set(uestc_format.TRAIN_SUBJECTS) and len(test.subjects) == 67
+    assert not set(train.subjects) & set(test.subjects)
+    assert set(train.subjects) | set(test.subjects) == set(range(1, 119))
+    small = synthetic.generate(UESTC, "test", count=40)
+    assert set(small.subjects.tolist()) <= set(test.subjects) and small.split == "test"
+
+
+def test_uestc_every_mode_present_and_distinct(uestc_pair):
+    data, _ = uestc_pair
+    variant = synthetic.VARIANTS[UESTC]
+    for c, cls in enumerate(variant.classes):
+        idx = np.flatnonzero(data.actions == c)
+        modes = data.modes[idx]
+        assert all(np.sum(modes == m) >= 2 for m in range(len(cls.modes))), cls.name
+        feats = np.stack([_features(data[int(i)]) for i in idx])
+        dist = np.linalg.norm(feats[:, None] - feats[None], axis=-1)
+        same = (modes[:, None] == modes[None]) & ~np.eye(len(idx), dtype=bool)
+        assert dist[modes[:, None] != modes[None]].mean() > dist[same].mean(), cls.name
+
+
+def _accel_mm(joints):
+    """Per joint and frame, |second difference| of root-relative joints, mm/frame^2."""
+    rel = joints - joints[:, :1]
+    return 1000.0 * np.linalg.norm(rel[2:] - 2 * rel[1:-1] + rel[:-2], axis=-1)
+
+
+def test_uestc_noise_is_vibe_like(uestc_pair):
+    noisy, clean = uestc_pair
+    assert np.array_equal(noisy.starts, clean.starts) and np.array_equal(noisy.subjects, clean.subjects)
+    error = np.concatenate([_accel_mm(noisy[i].joints - clean[i].joints + clean[i].joints[:, :1]).ravel()
+                            for i in range(len(noisy))])
+    assert 15.8 < error.mean() < 31.6  # VIBE's acceleration error, H36M to AIST++ (noise.py: ~23 on 3DPW)
+    raw = [np.concatenate([_accel_mm(d[i].joints).ravel() for i in range(len(d))]).mean() for d in (noisy, clean)]
+    assert raw[0] > 2.0 * raw[1]
+    # Depth from the box height: the body seems farther from the camera (-Z) the lower it folds.
+    squat = noisy.class_names.index("squatting")
+    deep = noisy.modes != noisy.mode_names[squat].index("half squat")
+    for i in np.flatnonzero((noisy.actions == squat) & deep):
+        extent = np.ptp(clean[int(i)].joints[..., 1], axis=1)
+        depth = clean[int(i)].translation[:, 2] - noisy[int(i)].translation[:, 2]
+        assert np.corrcoef(extent, depth)[0, 1] < -0.5
+
+
+def test_uestc_fk_consistency_and_joint_limits_after_noise(uestc_pair):
+    data, _ = uestc_pair
+    offsets = np.stack([synthetic.subject_offsets(UESTC, int(s)) for s in data.subjects])
+    joints = forward_kinematics(rotations.axis_angle_to_matrix(data.rotations), data.translation,
+                                np.repeat(offsets, data.lengths, axis=0), SMPL24.parents)
+    np.testing.assert_allclose(np.asarray(joints), data.joints, atol=1e-5)
+    angles = anatomy.rotmats_to_angles(np.asarray(rotations.axis_angle_to_matrix(data.rotations), float))
+    assert np.all(angles >= anatomy.LIMITS[:, :, 0] - 0.05) and np.all(angles <= anatomy.LIMITS[:, :, 1] + 0.05)
+    assert data.joints[..., 1].min() > -0.08  # estimates dip a few centimetres into the floor, no more
+
+
+def test_engine_rotations_match_anatomy():
+    rng = np.random.default_rng(0)
+    limits = np.clip(anatomy.LIMITS, -170, 170)
+    angles = rng.uniform(limits[..., 0], limits[..., 1], size=(synthetic.engine._CHUNK_FRAMES, 24, 3))
+    ours = np.asarray(synthetic.engine._rotmats(angles.astype(np.float32)))
+    np.testing.assert_allclose(ours, anatomy.angles_to_rotmats(angles), atol=2e-6)

@@ -35,11 +35,12 @@ from types import MappingProxyType
 
 import numpy as np
 
+from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
+from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
 from jaxmotion.data.motion import MotionDataset, concatenate
-from jaxmotion.data.synthetic import humanact12
-from jaxmotion.data.synthetic import cmu
-from jaxmotion.data.synthetic import ntu13
+from jaxmotion.data.synthetic import cmu, humanact12, ntu13, uestc
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
+from jaxmotion.data.synthetic.noise import EstimateNoise
 
 __all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "generate", "load",
            "subject_offsets"]
@@ -65,6 +66,16 @@ VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
     "synth-cmu": Variant(
         name="synth-cmu", classes=cmu.CLASSES, fps=12.0, lengths=(100, 100),
         splits=MappingProxyType({"train": Split(num_sequences=970, subjects=tuple(range(20)))}),
+    ),
+    # UESTC as ACTOR uses it (FACTS 1.1): 40 exercises, 118 subjects split by ACTOR's 51 training subjects,
+    # 10 650 / 13 350 clips; VIBE-estimated, hence the monocular-estimate noise (noise.py).
+    "synth-uestc": Variant(
+        name="synth-uestc", classes=uestc.CLASSES, fps=20.0, lengths=(40, 150), noise=EstimateNoise(),
+        splits=MappingProxyType({
+            "train": Split(num_sequences=10650, subjects=tuple(sorted(UESTC_TRAIN_SUBJECTS))),
+            "test": Split(num_sequences=13350, subjects=tuple(
+                s for s in range(1, UESTC_NUM_SUBJECTS + 1) if s not in UESTC_TRAIN_SUBJECTS)),
+        }),
     ),
 })
 

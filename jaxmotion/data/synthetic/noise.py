@@ -5,11 +5,13 @@ box scale (FACTS 1.1: z = 500 h3d / h2d); this module reproduces their errors on
 motion (MOTION_FACTS section 6). :class:`EstimateNoise` is a :class:`~engine.Variant` ``noise`` hook:
 
 * **Joint jitter** (every joint, every frame, independent): ``N(0, jitter_deg)`` on every anatomical
-  channel, then the joint limits (a channel at its limit only jitters inwards; channels without range
-  stay zero). With 0.75 degrees the root-relative joints move ~5-6 mm per axis from frame to frame, so
-  the acceleration error, mean over joints of ``|a_noisy - a_clean|`` with ``a`` the second difference,
-  is ~23 mm/frame^2: VIBE's on 3DPW (23.2; 15.8 on H36M, 31.6 on AIST++), a 6 mm iid per-axis jitter
-  (accel error ~3.9 sigma). Joints stay FK of the stored rotations because the noise is on the rotations.
+  channel, pelvis orientation included, then the joint limits (a channel at its limit only jitters
+  inwards; channels without range stay zero). Calibrated on synth-uestc: with 0.6 degrees the
+  root-relative joints jitter by 7.7 / 4.8 / 8.0 mm (x / y / z, std; more at the hands and feet, whose
+  chains are long) and the acceleration error, mean over joints of ``|a_noisy - a_clean|`` with ``a``
+  the second difference of root-relative joints, is 23 mm/frame^2: VIBE's on 3DPW (23.2; 15.8 on H36M,
+  31.6 on AIST++; iid per-axis jitter of ~6 mm gives the same, at ~3.9 sigma). Joints stay FK of the
+  stored rotations because the noise is on the rotations.
 * **Root jitter**: iid ``N(0, root_jitter_m)`` per axis (x, y, z = camera depth): the box scale that
   gives depth is the least stable estimate (est.: 1 % box jitter at ~3 m is 3 cm; ACTOR's refinement
   smooths it).
@@ -55,7 +57,7 @@ class EstimateNoise:
       drift_hz: highest frequency of that wander.
     """
 
-    jitter_deg: float = 0.75
+    jitter_deg: float = 0.6
     root_jitter_m: tuple[float, float, float] = (0.003, 0.003, 0.01)
     distance_m: float = 3.0
     depth_gain: tuple[float, float] = (0.05, 0.2)
