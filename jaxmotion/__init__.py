@@ -7,4 +7,8 @@ Subpackages:
   config / cli  frozen experiment configs with smoke / cpu / paper profiles, and their command line
 """
 
+from jaxmotion._xla_workarounds import disable_ynn_fusion_if_affected
+
 __version__ = "0.1.0"
+
+disable_ynn_fusion_if_affected()  # must run before jax's first computation; see _xla_workarounds

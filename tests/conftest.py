@@ -4,6 +4,8 @@ import os
 
 from hypothesis import HealthCheck, settings
 
+import jaxmotion  # noqa: F401  (first, so its XLA workaround is in place before any test computes)
+
 # Compilation dominates small property tests; a few dozen examples per property is plenty and keeps CI fast.
 settings.register_profile(
     "jaxmotion",
