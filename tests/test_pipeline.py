@@ -9,7 +9,7 @@ from jaxmotion.data import Motion, pack
 from jaxmotion.data.pipeline import (
     BatchSpec,
     canonicalize_motion,
-    epoch_indices,
+    EpochOrder,
     from_actor_features,
     make_batch_fn,
     random_lengths,
@@ -76,10 +76,13 @@ def test_sequence_weights_follow_each_scheme():
 def test_epoch_sampling_visits_every_sequence_once_per_epoch(batch_size):
     n, epochs = 12, 3
     steps = n * epochs // batch_size
-    ids = np.concatenate([np.asarray(epoch_indices(jax.random.key(1), s, n, batch_size)) for s in range(steps)])
+    order = EpochOrder(jax.random.key(1), n, batch_size)
+    ids = np.concatenate([order(s) for s in range(steps)])
     for e in range(epochs):
         assert sorted(ids[e * n:(e + 1) * n]) == list(range(n))
     assert not np.array_equal(ids[:n], ids[n:2 * n])  # a fresh order each epoch
+    again = EpochOrder(jax.random.key(1), n, batch_size)
+    np.testing.assert_array_equal(again(steps - 1), order(steps - 1))  # a function of (key, step) only
 
 
 def test_batches_have_static_shapes_and_are_deterministic(dataset):

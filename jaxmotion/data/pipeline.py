@@ -15,11 +15,13 @@ Axes: N sequences, F packed frames, B batch, T window, J joints, C channels.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from typing import Literal
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
@@ -65,20 +67,30 @@ def sample_sequences(key: jax.Array, weights: jax.Array, batch_size: int) -> jax
     return jax.random.choice(key, weights.shape[0], (batch_size,), replace=True, p=weights).astype(jnp.int32)
 
 
-def epoch_indices(key: jax.Array, step: jax.Array | int, num_sequences: int, batch_size: int) -> jax.Array:
-    """Indices ``[B]`` of batch ``step`` when every epoch visits each sequence once, in a fresh order.
+class EpochOrder:
+    """Sequence indices ``[B]`` of batch ``step`` when every epoch visits each sequence once, in a fresh order.
 
     Epoch ``e`` uses the permutation drawn from ``fold_in(key, e)``; a batch that straddles two epochs takes
-    the end of one and the start of the next, so within an epoch no sequence is dropped or repeated.
+    the end of one and the start of the next, so within an epoch no sequence is dropped or repeated. The
+    indices depend only on ``(key, step)``; the last two permutations are memoised on the host, because
+    drawing one per step costs more than the rest of the batch for datasets of ten thousand sequences.
     """
-    if batch_size > num_sequences:
-        raise ValueError(f"epoch_indices: batch_size ({batch_size}) exceeds num_sequences ({num_sequences})")
-    position = jnp.asarray(step, jnp.int32) * batch_size + jnp.arange(batch_size, dtype=jnp.int32)
-    epoch, offset = position // num_sequences, position % num_sequences
-    first = epoch[0]
-    this = jax.random.permutation(jax.random.fold_in(key, first), num_sequences)
-    following = jax.random.permutation(jax.random.fold_in(key, first + 1), num_sequences)
-    return jnp.where(epoch == first, this[offset], following[offset]).astype(jnp.int32)
+
+    def __init__(self, key: jax.Array, num_sequences: int, batch_size: int):
+        if batch_size > num_sequences:
+            raise ValueError(f"EpochOrder: batch_size ({batch_size}) exceeds num_sequences ({num_sequences})")
+        self.key, self.num_sequences, self.batch_size = key, num_sequences, batch_size
+        self._permutation = functools.lru_cache(maxsize=2)(self._draw)
+
+    def _draw(self, epoch: int) -> np.ndarray:
+        return np.asarray(jax.random.permutation(jax.random.fold_in(self.key, epoch), self.num_sequences))
+
+    def __call__(self, step: int) -> np.ndarray:
+        position = int(step) * self.batch_size + np.arange(self.batch_size)
+        epoch, offset = position // self.num_sequences, position % self.num_sequences
+        first = int(epoch[0])
+        this, following = self._permutation(first), self._permutation(first + 1)
+        return np.where(epoch == first, this[offset], following[offset]).astype(np.int32)
 
 
 # --- which frames ----------------------------------------------------------------------------------
@@ -222,27 +234,34 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Ca
     frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
     if dataset.rotations is not None:
         frames_of["rotations"] = jnp.asarray(dataset.rotations)
-    starts = jnp.asarray(dataset.starts[:-1], jnp.int32)
-    lengths = jnp.asarray(dataset.lengths, jnp.int32)
     labels = {k: jnp.asarray(getattr(dataset, k)) for k in ("actions", "modes", "subjects")}
-    weights = sequence_weights(labels["actions"], dataset.num_classes, spec.sampling)
+    tables = {
+        "frames": frames_of,
+        "labels": labels,
+        "starts": jnp.asarray(dataset.starts[:-1], jnp.int32),
+        "lengths": jnp.asarray(dataset.lengths, jnp.int32),
+        "weights": sequence_weights(labels["actions"], dataset.num_classes, spec.sampling),
+    }
     order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
+    epoch_order = EpochOrder(order_key, len(dataset), spec.batch_size) if spec.sampling == "epoch" else None
 
+    # The dataset enters as an argument, not a closure: captured arrays would be baked into the program
+    # as constants, which makes compilation and every call slow for large datasets.
     @jax.jit
-    def batch(step):
+    def batch_from(tables, step, epoch_ids):
         k_ids, k_len, k_crop = jax.random.split(jax.random.fold_in(step_key, step), 3)
-        if spec.sampling == "epoch":
-            ids = epoch_indices(order_key, step, len(dataset), spec.batch_size)
+        if epoch_ids is not None:
+            ids = epoch_ids
         else:
-            ids = sample_sequences(k_ids, weights, spec.batch_size)
-        n = lengths[ids]
+            ids = sample_sequences(k_ids, tables["weights"], spec.batch_size)
+        n = tables["lengths"][ids]
         if spec.min_length is None:
             seg = jnp.minimum(n, spec.window)
         else:
             seg = random_lengths(k_len, n, spec.min_length, spec.window)
         crops = random_crop_starts(k_crop, n, seg)
-        frames, mask = window_frames(starts[ids] + crops, seg, spec.window, spec.padding)
-        out = {k: v[frames] for k, v in frames_of.items()}
+        frames, mask = window_frames(tables["starts"][ids] + crops, seg, spec.window, spec.padding)
+        out = {k: v[frames] for k, v in tables["frames"].items()}
         if spec.canonical:
             out["joints"], out["translation"], rotations = canonicalize_motion(
                 out["joints"], out["translation"], out.get("rotations"), *hips)
@@ -250,6 +269,9 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Ca
                 out["rotations"] = rotations
         else:
             out["joints"], out["translation"] = to_origin(out["joints"], out["translation"])
-        return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in labels.items()}}
+        return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
+
+    def batch(step):
+        return batch_from(tables, step, None if epoch_order is None else epoch_order(step))
 
     return batch
