@@ -108,6 +108,7 @@ def test_locomotion_travels_and_standing_actions_stay(sample):
     assert np.all(travel("walk") > 0.5) and np.all(travel("walk") < 2.0)  # m/s
     assert np.all(travel("run") > 1.5)
     assert np.all(travel("drink") < 0.15) and np.all(travel("phone") < 0.15)
+    assert _net_travel(sample, "jump", "in place").max() < 0.15  # metres: the feet land where they took off
 
 
 def _features(motion):
@@ -236,6 +237,17 @@ def _paths(data, name):
                      for i in idx])
 
 
+def _net_travel(data, name, mode=None):
+    """Horizontal distance (m) from the first to the last root position of every sequence of class ``name``
+    (of ``mode`` only, if given)."""
+    c = data.class_names.index(name)
+    hit = data.actions == c
+    if mode is not None:
+        hit &= data.modes == data.mode_names[c].index(mode)
+    return np.array([np.linalg.norm(data[int(i)].translation[-1, [0, 2]] - data[int(i)].translation[0, [0, 2]])
+                     for i in np.flatnonzero(hit)])
+
+
 def test_new_variants_foot_sliding_and_travel(other_sample):
     gaits = {"synth-ntu13": ("running on the spot", "butt kicks"), "synth-cmu": ("Walk", "Run")}[other_sample.name]
     speeds = np.concatenate([foot_skate(other_sample[int(i)].joints, _TOES, other_sample.fps)
@@ -245,10 +257,34 @@ def test_new_variants_foot_sliding_and_travel(other_sample):
         assert np.all(other_sample.lengths == 100)
         assert _paths(other_sample, "Walk").min() > 5.0 and _paths(other_sample, "Run").min() > 10.0  # metres
         assert np.median(_paths(other_sample, "Walk")) > 3.0 * np.median(_paths(other_sample, "Dance"))
-    else:  # on the spot: much less travel than walking
-        net = [np.linalg.norm(other_sample[int(i)].translation[-1, [0, 2]] - other_sample[int(i)].translation[0, [0, 2]])
-               for c in gaits for i in np.flatnonzero(other_sample.actions == _class(other_sample, c))]
-        assert max(net) < 1.5
+        assert _net_travel(other_sample, "Jump", "in place").max() < 0.15  # metres, over ~8 s of jumps
+    else:  # on the spot: the feet land where they stood, so the body stays where it started
+        assert max(_net_travel(other_sample, c).max() for c in gaits) < 0.6  # metres, over up to 7.5 s
+
+
+def test_cmu_step_and_climb_rise_onto_their_supports():
+    """Stairs (Step, high steps) and Climb go up: the root rises with the support under the feet; a foot
+    bearing all the weight rests on its support (a step, rung or the floor), and none bearing any is under it."""
+    variant = synthetic.VARIANTS["synth-cmu"]
+    data = synthetic.generate(variant.name, count=80)
+    bodies = {s: synthetic.engine.subject(variant, s, 0) for s in variant.splits["train"].subjects}
+    ankles = [SMPL24.index("left_ankle"), SMPL24.index("right_ankle")]
+    up = 0
+    for i in np.flatnonzero(np.isin(data.actions, [_class(data, "Step"), _class(data, "Climb")])):
+        posed = synthetic.engine._perform(variant, "train", 0, int(i), int(data.actions[i]), int(data.modes[i]), bodies)
+        joints = data[int(i)].joints
+        drop = -posed.subject.offsets[_TOES[0], 1]  # the toe joint's rest height above the heel's
+        sole = np.minimum(joints[:, _TOES, 1], joints[:, ankles, 1] - drop)  # [T, 2] lowest point of each foot
+        gap = sole - posed.ground
+        assert np.abs(gap[posed.contact > 0.99]).max() < 0.05 and gap[posed.contact > 0.01].min() > -0.01
+        rise = joints[-1, 0, 1] - joints[0, 0, 1]
+        if data.mode_names[data.actions[i]][data.modes[i]] == "side steps":  # level ground
+            assert not posed.ground.any() and abs(rise) < 0.05
+            continue
+        support = posed.contact[-1] @ posed.ground[-1] / posed.contact[-1].sum()
+        assert support > 0.8 and abs(rise - support) < 0.3  # metres: several steps, the body on top of them
+        up += 1
+    assert up >= 4
 
 
 # --- synth-uestc ---------------------------------------------------------------------------------------

@@ -45,7 +45,7 @@ from jaxmotion.data.synthetic.noise import EstimateNoise
 __all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "generate", "load",
            "subject_offsets"]
 
-GENERATOR_VERSION = 2  # 2: angles -> rotations in float32 jax (stored values move by float32 rounding)
+GENERATOR_VERSION = 3  # 3: CMU Step/Climb go up (per-foot support height); in-place flights land where they stood
 #: Mean toe-joint horizontal speed (m/s) allowed on floor-contact frames of walking and running.
 FOOT_SKATE_TOLERANCE = 0.08
 

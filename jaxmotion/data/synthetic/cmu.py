@@ -5,9 +5,8 @@ speed. Mode names are the ground-truth style labels. Figures: MOTION_FACTS 3 and
 marked).
 
 The real set stores 20 joints (A2M's CMU skeleton); this stand-in keeps the SMPL-24 rotations and joints
-of every synthetic variant. Stepping up onto a real step and climbing with the root rising would need a
-support surface above the floor, which the grounding does not model: ``Step`` and ``Climb`` are done on
-level ground (stepping over obstacles, side steps; climbing in place, scrambling bent over).
+of every synthetic variant. ``Step`` (high steps) goes up a flight of stairs and ``Climb`` up a ladder or a
+steep rocky slope: the feet land on supports above the floor (``take.ground``) and the root rises.
 """
 
 from __future__ import annotations
@@ -146,11 +145,17 @@ def dance(take: Take) -> None:
         take["pelvis.obliquity"] += 3.0 * sway
 
 
+def _moves(take: Take, rate: float) -> np.ndarray:
+    """Phase ``[T]`` for :func:`skills.stairs` at ``rate`` moves/s: standing still for the first ~0.2-0.8 s."""
+    rate = take.vary(rate, 0.1) * take.tempo
+    return timing.warped_phase(take.t, 0.5 * rate, take.rng, wobble=0.04, start=-0.5 * rate * take.uniform(0.2, 0.8))
+
+
 def step(take: Take) -> None:
     skills.stand(take)
-    if take.mode == "high steps":  # stepping over obstacles: slow, knees lifted high
-        skills.gait(take, skills.WALK, cadence=take.vary(1.3, 0.1), size=take.vary(1.1, 0.1),
-                    knee_boost=(take.vary(35.0, 0.2), 0.75))
+    if take.mode == "high steps":  # up a flight of stairs, foot over foot, leaning a little into them
+        skills.stairs(take, _moves(take, 1.0), rise=take.uniform(0.15, 0.22), tread=take.uniform(0.25, 0.32))
+        take["spine1.flex"] += take.vary(6.0, 0.3)
         skills.steer(take, _turn_rate(take, "straight"))
     else:  # side steps: leading foot out, the other closes, travelling sideways
         phase = timing.warped_phase(take.t, take.vary(1.0, 0.15) * take.tempo, take.rng)
@@ -161,26 +166,21 @@ def step(take: Take) -> None:
 def climb(take: Take) -> None:
     skills.stand(take)
     ladder = take.mode == "ladder"
-    phase = timing.warped_phase(take.t, take.vary(0.6 if ladder else 0.7, 0.15) * take.tempo, take.rng)
-    if not ladder:  # scrambling up a steep slope: bent over, slow high steps, hands reaching for holds
-        skills.gait(take, skills.WALK, cadence=0.0, size=take.vary(0.6, 0.1), phase=phase)
-        skills.crouch(take, take.vary(30.0, 0.2), take.vary(35.0, 0.2))
+    phase = _moves(take, 1.2 if ladder else 1.0)
+    if ladder:  # rungs ~25-30 cm apart straight above each other: the feet land under the hips
+        skills.stairs(take, phase, rise=take.uniform(0.24, 0.3), tread=0.04)
+    else:  # scrambling up a steep slope: bent over, high steps, hands reaching for holds
+        skills.crouch(take, 0.0, take.vary(35.0, 0.2))  # the trunk only: stairs() bends the legs to fit the steps
+        skills.stairs(take, phase, rise=take.uniform(0.2, 0.26), tread=take.uniform(0.2, 0.28))
         skills.steer(take, _turn_rate(take, "straight"))
     for k, side in enumerate(SIDES):
         reach_up = timing.pulses(phase - 0.5 * (1 - k), 0.45, 0.15)  # with the other leg's lift
-        if ladder:  # in place: knee to hip height onto the next rung, hands hand over hand
-            lift = timing.pulses(phase - 0.5 * k, 0.45, 0.15)
-            take[f"{side}_hip.flex"] += take.amp * 80.0 * lift
-            take[f"{side}_knee.flex"] += 95.0 * lift
-            take[f"{side}_ankle.dorsi"] += 10.0 * lift
-            take.contact[:, k] = 1.0 - lift
+        if ladder:  # hands hand over hand on the rails
             low, high = np.array([0.15, 0.15, 0.25]), np.array([0.1, 0.62, 0.15])
         else:
             low, high = np.array([0.15, 0.05, 0.35]), np.array([0.1, 0.45, 0.4])
         target = take.shoulder_point() + take.scale() * (low + reach_up[:, None] * (high - low))
         skills.reach(take, side, target, elbow_hint=(0.5, -1.0, -0.2))
-    if ladder:
-        skills.in_place(take)
 
 
 CLASSES = (

@@ -128,6 +128,7 @@ def schedule(variant: Variant, split: str) -> tuple[np.ndarray, np.ndarray]:
 class _Posed:
     angles: np.ndarray  # [T, J, 3] degrees, within the joint limits
     contact: np.ndarray  # [T, 2]
+    ground: np.ndarray  # [T, 2] metres
     heading: np.ndarray  # [T] radians
     flight_speed: float
     flight_carry: float
@@ -144,7 +145,7 @@ def _perform(variant: Variant, split: str, seed: int, index: int, action: int, m
     take = Take(num_frames, variant.fps, rng, who, cls.modes[mode])
     cls.perform(take)
     angles = finish(take)
-    return _Posed(angles, take.contact, np.radians(angles[:, 0, 0]), take.flight_speed, take.flight_carry,
+    return _Posed(angles, take.contact, take.ground, np.radians(angles[:, 0, 0]), take.flight_speed, take.flight_carry,
                   who, rng)
 
 
@@ -257,8 +258,8 @@ def _chunk(variant: Variant, posed: list[_Posed]):
             grounding.sole_points(joints[:, a], ankle_rot[frames, k], joints[:, toe],
                                   p.subject.offsets[toe], p.subject.height / 1.70)
             for k, (a, toe) in enumerate(zip(_ANKLES, _TOES))], axis=1)
-        root = grounding.root_translation(soles, p.contact, p.heading, variant.fps, p.flight_speed,
-                                            p.flight_carry)
+        root = grounding.root_translation(soles, p.contact, p.ground, p.heading, variant.fps, p.flight_speed,
+                                          p.flight_carry)
         if variant.noise is not None:
             angles[frames], root = variant.noise(p.angles, root, joints, p.subject, variant.fps, p.rng)
         translation[frames] = root

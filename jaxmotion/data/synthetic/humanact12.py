@@ -76,7 +76,7 @@ def jump(take: Take) -> None:
     height = take.vary(0.22 if forward else 0.3, 0.2)
     t = take.uniform(0.1, 0.5)
     while True:
-        t_end = skills.jump(take, t, height=height, forward=take.vary(0.7, 0.2) if forward else 0.0)
+        t_end = skills.jump(take, t, height=height, forward=take.vary(0.9, 0.2) if forward else 0.0)
         t = t_end + take.uniform(0.1, 0.5)
         if t + 1.6 > take.duration:
             break

@@ -273,6 +273,46 @@ def gait(take: Take, curves: GaitCurves, *, cadence: float, size: float = 1.0, t
     return phase
 
 
+def leg_bend(take: Take, rise: float, reach: float) -> tuple[float, float]:
+    """Hip and knee flexion (degrees, two-bone sagittal IK) that put the ankle ``rise`` metres above a
+    straight leg's and ``reach`` metres ahead of the hip (both at template size)."""
+    s = take.scale()
+    thigh, shank = 0.39 * s, 0.41 * s
+    x, y = reach * s, thigh + shank - rise * s  # ankle ahead of and below the hip
+    d = np.clip(np.hypot(x, y), abs(thigh - shank) + 1e-3, thigh + shank - 1e-3)
+    knee = np.pi - np.arccos((thigh**2 + shank**2 - d**2) / (2 * thigh * shank))
+    hip = np.arctan2(x, y) + np.arccos((thigh**2 + d**2 - shank**2) / (2 * thigh * d))
+    return float(np.degrees(hip)), float(np.degrees(knee))
+
+
+def stairs(take: Take, phase: np.ndarray, *, rise: float, tread: float) -> None:
+    """Going up stairs or rungs foot over foot (MOTION_FACTS 4: lead hip/knee flex 60-90 degrees onto the
+    step, the root rises), one move per half cycle of ``phase [T]`` (left leads from each whole cycle, right
+    from each half; standing while ``phase < 0``).
+
+    A move: the lead foot lifts, lands ``rise`` m (template size) above the other foot and ``tread`` m ahead,
+    on the leg bend that puts it there (:func:`leg_bend`), the weight moves onto it (the pose held, so both
+    feet stay on their supports), then the leg straightens and lifts the body by ``rise``. Sets
+    ``take.ground``: each landing is one step above the other foot's support.
+    """
+    hip, knee = leg_bend(take, rise, tread)
+    going = phase >= 0.0
+    move = np.floor(2.0 * phase).astype(int)  # moves begun (left leads even ones)
+    u = 2.0 * phase - move  # progress through the current move
+    keys = [0.0, 0.3, 0.45, 0.6, 1.0]  # lift, peak, touch down, weight on, straight
+    weight = timing.keyframes(u, keys[2:4], [0.0, 1.0])  # the lead foot's share
+    landed = np.floor(2.0 * phase - keys[2]).astype(int)  # index of the latest move that has touched down
+    for k, side in enumerate(SIDES):
+        leads = going & (move % 2 == k)
+        take[f"{side}_hip.flex"] += np.where(leads, timing.keyframes(u, keys, [0, hip + 20, hip, hip, 0]), 0.0)
+        take[f"{side}_knee.flex"] += np.where(leads, timing.keyframes(u, keys, [0, knee + 40, knee, knee, 0]), 0.0)
+        flat = min(knee - hip, 20.0)  # the foot lands flat on the step (the ball, on a rung)
+        take[f"{side}_ankle.dorsi"] += np.where(leads, timing.keyframes(u, keys, [0, 15, flat, flat, 0]), 0.0)
+        take.contact[:, k] = np.where(going, np.where(leads, weight, 1.0 - weight), 0.5)
+        mine = landed - (landed - k) % 2  # this foot's latest landing: move j puts a foot on step j + 1
+        take.ground[:, k] = take.scale() * rise * np.maximum(mine + 1, 0)
+
+
 # --- one-off whole-body skills ---------------------------------------------------------------------------
 
 

@@ -34,6 +34,8 @@ class Take:
       angles: ``[T, J, 3]`` the pose being built, degrees (indexable by ``"joint.channel"``).
       contact: ``[T, 2]`` share of the body weight on the (left, right) foot; a frame where both are 0 is
         airborne (the root then follows a ballistic path).
+      ground: ``[T, 2]`` height (m) of the support under the (left, right) foot: 0 is the floor, more is a
+        step, stair or rung the foot stands on (see :func:`grounding.root_translation`).
       flight_speed: forward speed (m/s, along the heading) added during flight, e.g. a jump forward.
       flight_carry: fraction of the support phase's horizontal velocity kept in flight (see
         :func:`grounding.root_translation`).
@@ -49,6 +51,7 @@ class Take:
         self.amp = subject.amplitude * float(np.clip(rng.normal(1.0, 0.06), 0.85, 1.15))
         self.angles = np.zeros((num_frames, anatomy.NUM_JOINTS, 3))
         self.contact = np.full((num_frames, 2), 0.5)
+        self.ground = np.zeros((num_frames, 2))
         self.flight_speed = 0.0
         self.flight_carry = 1.0
 
