@@ -1,0 +1,1 @@
+"""Models: generators (ACTOR, ActFormer, Neural Marionette, ODMO, Action2Motion) and recognisers."""

@@ -1,0 +1,1 @@
+"""Pure-function network layers shared by the models (recurrent cells via ``lax.scan``, ...)."""
