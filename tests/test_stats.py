@@ -1,6 +1,7 @@
 """Mean ± 95% confidence intervals and result tables."""
 
 import math
+import statistics
 
 import numpy as np
 import pytest
@@ -51,3 +52,15 @@ def test_table_layout():
         "| Real | 0.50 | 99.00 ± 0.10 |",
         "| Ours | 1.25 | – |",
     ]
+
+
+def test_paper_interval_conventions_reproduce_their_formulas():
+    values = [1.0, 2.0, 4.0, 7.0]
+    x = np.asarray(values)
+    assert summarize(values, "actor").ci95 == pytest.approx(1.96 * x.var())
+    # ODMO: statistics.NormalDist.from_samples(x).stdev * z / sqrt(n - 1)
+    odmo = statistics.NormalDist.from_samples(values).stdev * statistics.NormalDist().inv_cdf(0.975) / 3 ** 0.5
+    assert summarize(values, "odmo").ci95 == pytest.approx(odmo, rel=1e-12)
+    assert summarize(values, "odmo").mean == summarize(values).mean == pytest.approx(3.5)
+    with pytest.raises(ValueError, match="convention"):
+        summarize(values, "scipy")

@@ -3,9 +3,9 @@
 The interval is the two-sided Student-t interval of the mean, ``t(0.975, n-1) · s / sqrt(n)`` with ``s``
 the sample standard deviation (ddof = 1). With the 10-20 repetitions of the papers' protocols this is
 within a few percent of the ``1.96 · s / sqrt(n)`` normal interval; with 3 seeds the t factor (4.30)
-matters. The papers' own code differs (ACTOR prints ``1.96 · variance``, ODMO ``1.96 · s / sqrt(n-1)``;
-see FACTS.md §7): where a paper's convention is needed it is computed by the evaluation protocol of that
-paper, not here.
+matters. The papers' own code differs (FACTS.md §4, §6, §7): ACTOR prints ``1.96 · variance`` (ddof 0)
+and ODMO ``z · s / sqrt(n-1)`` (``statistics.NormalDist``: s with ddof 1, exact z); ``summarize(values, convention="actor" | "odmo")`` reproduces those
+for comparison with the published numbers. Tables use the t-interval unless an experiment asks otherwise.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 
@@ -24,6 +25,7 @@ _T975 = (
     2.0796, 2.0739, 2.0687, 2.0639, 2.0595, 2.0555, 2.0518, 2.0484, 2.0452, 2.0423,
 )
 _Z975 = 1.959963984540054
+_ACTOR_Z = 1.96  # the rounded constant of ACTOR's table script
 
 
 def t_critical_95(df: int) -> float:
@@ -58,13 +60,27 @@ class Summary:
         return f"{self.mean:.{digits}f} ± {self.ci95:.{digits}f}"
 
 
-def summarize(values: Sequence[float] | np.ndarray) -> Summary:
-    """Mean and 95% t-interval half-width of a 1-D set of values ``[N]``."""
+Convention = Literal["t", "actor", "odmo"]
+
+
+def summarize(values: Sequence[float] | np.ndarray, convention: Convention = "t") -> Summary:
+    """Mean and 95% interval half-width of a 1-D set of values ``[N]``.
+
+    ``convention``: ``"t"`` the Student-t interval (default); ``"actor"`` ACTOR's printed
+    ``1.96 · var`` (ddof 0); ``"odmo"`` ODMO's ``z(0.975) · s / sqrt(n - 1)`` (s with ddof 1).
+    """
     x = np.asarray(values, dtype=np.float64)
     if x.ndim != 1 or x.size == 0:
         raise ValueError(f"summarize: expected a non-empty 1-D sequence [N], got shape {x.shape}")
     n = x.size
     if n == 1:
         return Summary(float(x[0]), float("nan"), 1)
-    half = t_critical_95(n - 1) * float(np.std(x, ddof=1)) / math.sqrt(n)
+    if convention == "t":
+        half = t_critical_95(n - 1) * float(np.std(x, ddof=1)) / math.sqrt(n)
+    elif convention == "actor":
+        half = _ACTOR_Z * float(np.var(x))
+    elif convention == "odmo":
+        half = _Z975 * float(np.std(x, ddof=1)) / math.sqrt(n - 1)
+    else:
+        raise ValueError(f"summarize: convention must be 't', 'actor' or 'odmo', got {convention!r}")
     return Summary(float(np.mean(x)), half, n)
