@@ -7,7 +7,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jaxmotion.metrics import aggregate_persons, fid, fid_class_mean, fid_per_class, frechet_distance, gaussian_stats
+from jaxmotion.metrics import (
+    aggregate_persons,
+    fid,
+    fid_class_mean,
+    fid_per_class,
+    frechet_distance,
+    gaussian_stats,
+)
 
 scipy_linalg = pytest.importorskip("scipy.linalg")
 

@@ -5,7 +5,13 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxmotion.metrics import accuracy, confusion_matrix, diversity, mean_class_recall, multimodality
+from jaxmotion.metrics import (
+    accuracy,
+    confusion_matrix,
+    diversity,
+    mean_class_recall,
+    multimodality,
+)
 
 
 def test_confusion_matrix_counts_each_pair_and_accuracy_is_its_trace_share():
