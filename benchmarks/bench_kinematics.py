@@ -10,9 +10,6 @@ and compile) is reported separately. Times are medians over repeats. Prints a ma
 from __future__ import annotations
 
 import argparse
-import os
-import platform
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -22,6 +19,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
+from benchmarks.timing import machine_header, median_ms  # noqa: E402
 from jaxmotion.geometry.kinematics import forward_kinematics  # noqa: E402
 from jaxmotion.geometry.rotations import axis_angle_to_matrix  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24, topological_order  # noqa: E402
@@ -46,27 +44,6 @@ def numpy_forward_kinematics(local_rotmats, root_translation, offsets, parents):
     return joints
 
 
-def median_ms(fn, budget_s: float, min_repeats: int = 5, max_repeats: int = 500) -> float:
-    """Median wall time of ``fn()`` in ms, repeating until ``budget_s`` is spent (within the repeat bounds)."""
-    times: list[float] = []
-    start = time.perf_counter()
-    while len(times) < min_repeats or (len(times) < max_repeats and time.perf_counter() - start < budget_s):
-        tick = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - tick)
-    return 1e3 * statistics.median(times)
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--torch-ms-1200", type=float, default=TORCH_MS_1200,
@@ -74,8 +51,7 @@ def main() -> None:
     parser.add_argument("--budget-s", type=float, default=1.0, help="timing budget per measurement, in s")
     args = parser.parse_args()
 
-    print(f"jax {jax.__version__}, numpy {np.__version__}, devices {jax.devices()}")
-    print(f"CPU: {cpu_model()}, {os.cpu_count()} logical cores; Python {platform.python_version()}")
+    print(machine_header())
     print()
 
     parents, offsets = SMPL24.parents, SMPL24.offsets

@@ -214,6 +214,49 @@ class BatchSpec:
             raise ValueError(f"BatchSpec.min_length must be in [1, window={self.window}], got {self.min_length}")
 
 
+def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
+    """The dataset as device arrays, plus what a batch gather needs; checks the spec against the data."""
+    if len(dataset) == 0:
+        raise ValueError(f"{dataset.name}/{dataset.split}: cannot batch an empty dataset")
+    names = dataset.skeleton.joint_names
+    if spec.canonical and not {"left_hip", "right_hip"} <= set(names):
+        raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
+    frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
+    if dataset.rotations is not None:
+        frames_of["rotations"] = jnp.asarray(dataset.rotations)
+    labels = {k: jnp.asarray(getattr(dataset, k)) for k in ("actions", "modes", "subjects")}
+    return {
+        "frames": frames_of,
+        "labels": labels,
+        "starts": jnp.asarray(dataset.starts[:-1], jnp.int32),
+        "lengths": jnp.asarray(dataset.lengths, jnp.int32),
+        "weights": sequence_weights(labels["actions"], dataset.num_classes, spec.sampling),
+        "hips": (names.index("left_hip"), names.index("right_hip")) if spec.canonical else None,
+    }
+
+
+# The dataset enters as an argument, not a closure: captured arrays would be baked into the program as
+# constants, which makes compilation and every call slow for large datasets.
+@functools.partial(jax.jit, static_argnames=("spec", "hips"))
+def _gather(tables: dict, ids: jax.Array, key: jax.Array, spec: BatchSpec, hips: tuple[int, int] | None) -> dict:
+    """Windows of sequences ``ids [B]``: lengths, crops and canonical frame as ``spec`` says."""
+    k_len, k_crop = jax.random.split(key)
+    n = tables["lengths"][ids]
+    seg = jnp.minimum(n, spec.window) if spec.min_length is None else random_lengths(k_len, n, spec.min_length,
+                                                                                      spec.window)
+    crops = random_crop_starts(k_crop, n, seg)
+    frames, mask = window_frames(tables["starts"][ids] + crops, seg, spec.window, spec.padding)
+    out = {k: v[frames] for k, v in tables["frames"].items()}
+    if spec.canonical:
+        out["joints"], out["translation"], rotations = canonicalize_motion(
+            out["joints"], out["translation"], out.get("rotations"), *hips)
+        if rotations is not None:
+            out["rotations"] = rotations
+    else:
+        out["joints"], out["translation"] = to_origin(out["joints"], out["translation"])
+    return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
+
+
 def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Callable[[int], dict[str, jax.Array]]:
     """``step -> batch`` with static shapes, deterministic in ``(key, step)``; the dataset moves to device once.
 
@@ -222,56 +265,74 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Ca
     snakes, per ``spec.padding``), ``lengths [B]`` (real frames per window), ``actions``, ``modes``,
     ``subjects`` ``[B]``.
     """
-    if len(dataset) == 0:
-        raise ValueError(f"{dataset.name}/{dataset.split}: cannot batch an empty dataset")
     if spec.sampling == "epoch" and spec.batch_size > len(dataset):
         raise ValueError(f"batch_size ({spec.batch_size}) exceeds the {len(dataset)} sequences of "
                          f"{dataset.name}/{dataset.split}; use sampling='uniform' (with replacement)")
-    names = dataset.skeleton.joint_names
-    if spec.canonical and not {"left_hip", "right_hip"} <= set(names):
-        raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
-    hips = (names.index("left_hip"), names.index("right_hip")) if spec.canonical else None
-    frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
-    if dataset.rotations is not None:
-        frames_of["rotations"] = jnp.asarray(dataset.rotations)
-    labels = {k: jnp.asarray(getattr(dataset, k)) for k in ("actions", "modes", "subjects")}
-    tables = {
-        "frames": frames_of,
-        "labels": labels,
-        "starts": jnp.asarray(dataset.starts[:-1], jnp.int32),
-        "lengths": jnp.asarray(dataset.lengths, jnp.int32),
-        "weights": sequence_weights(labels["actions"], dataset.num_classes, spec.sampling),
-    }
+    tables = _tables(dataset, spec)
+    hips = tables.pop("hips")
     order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
     epoch_order = EpochOrder(order_key, len(dataset), spec.batch_size) if spec.sampling == "epoch" else None
 
-    # The dataset enters as an argument, not a closure: captured arrays would be baked into the program
-    # as constants, which makes compilation and every call slow for large datasets.
     @jax.jit
-    def batch_from(tables, step, epoch_ids):
-        k_ids, k_len, k_crop = jax.random.split(jax.random.fold_in(step_key, step), 3)
-        if epoch_ids is not None:
-            ids = epoch_ids
-        else:
-            ids = sample_sequences(k_ids, tables["weights"], spec.batch_size)
-        n = tables["lengths"][ids]
-        if spec.min_length is None:
-            seg = jnp.minimum(n, spec.window)
-        else:
-            seg = random_lengths(k_len, n, spec.min_length, spec.window)
-        crops = random_crop_starts(k_crop, n, seg)
-        frames, mask = window_frames(tables["starts"][ids] + crops, seg, spec.window, spec.padding)
-        out = {k: v[frames] for k, v in tables["frames"].items()}
-        if spec.canonical:
-            out["joints"], out["translation"], rotations = canonicalize_motion(
-                out["joints"], out["translation"], out.get("rotations"), *hips)
-            if rotations is not None:
-                out["rotations"] = rotations
-        else:
-            out["joints"], out["translation"] = to_origin(out["joints"], out["translation"])
-        return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
+    def draw_ids(weights, step):
+        return sample_sequences(jax.random.fold_in(step_key, step), weights, spec.batch_size)
 
     def batch(step):
-        return batch_from(tables, step, None if epoch_order is None else epoch_order(step))
+        # ids and windows use independent keys folded from the step key
+        ids = epoch_order(step) if epoch_order is not None else draw_ids(tables["weights"], step)
+        window_key = jax.random.fold_in(jax.random.fold_in(step_key, step), 1)
+        return _gather(tables, jnp.asarray(ids), window_key, spec, hips)
 
     return batch
+
+
+def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec: BatchSpec,
+                   chunk: int = 1024) -> dict[str, np.ndarray]:
+    """Windows of the sequences ``ids [N]`` (repeats allowed) as one host batch dict (as a batch of
+    :func:`make_batch_fn`), cropped and canonicalised as ``spec`` says; ``spec.batch_size`` and
+    ``spec.sampling`` do not apply. Work is done ``chunk`` sequences at a time to bound memory."""
+    ids = np.asarray(ids, np.int32)
+    if ids.ndim != 1 or ids.size == 0 or ids.min() < 0 or ids.max() >= len(dataset):
+        raise ValueError(f"ids: expected a non-empty [N] array of sequence indices in [0, {len(dataset)}), "
+                         f"got shape {ids.shape}" + (f" with range [{ids.min()}, {ids.max()}]" if ids.size else ""))
+    tables = _tables(dataset, spec)
+    hips = tables.pop("hips")
+    size = min(chunk, ids.size)
+    parts = []
+    for i, first in enumerate(range(0, ids.size, size)):
+        part = ids[first:first + size]
+        padded = np.pad(part, (0, size - part.size), mode="edge")  # one shape, one compilation
+        out = _gather(tables, jnp.asarray(padded), jax.random.fold_in(key, i), spec, hips)
+        parts.append({k: np.asarray(v)[:part.size] for k, v in out.items()})
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+def epoch_windows(dataset: MotionDataset, key: jax.Array, spec: BatchSpec, count: int | None = None) -> dict[str, np.ndarray]:
+    """One window from each of ``count`` distinct sequences (default: all), as one host batch dict.
+
+    The sequences are a random subset without repetition drawn with ``key`` (ACTOR's "shuffle the real
+    set and keep up to 3 000 clips"); windows are cropped and canonicalised as ``spec`` says.
+    """
+    total = len(dataset)
+    count = total if count is None else count
+    if not 1 <= count <= total:
+        raise ValueError(f"count: expected 1..{total} (the sequences of {dataset.name}/{dataset.split}), got {count}")
+    k_ids, k_windows = jax.random.split(key)
+    ids = np.asarray(jax.random.permutation(k_ids, total))[:count]
+    return gather_windows(dataset, ids, k_windows, spec)
+
+
+def class_windows(dataset: MotionDataset, key: jax.Array, spec: BatchSpec, per_class: int) -> dict[str, np.ndarray]:
+    """``per_class`` windows of every class present, clips drawn uniformly within the class (without
+    repetition while the class has enough clips, with it beyond): ODMO's and ActFormer's class-balanced
+    real sets. Rows are grouped by class, in class order."""
+    if per_class < 1:
+        raise ValueError(f"per_class: expected >= 1, got {per_class}")
+    k_ids, k_windows = jax.random.split(key)
+    ids = []
+    for c in range(dataset.num_classes):
+        members = np.flatnonzero(dataset.actions == c)
+        if members.size:
+            pick = jax.random.choice(jax.random.fold_in(k_ids, c), members.size, (per_class,),
+                                     replace=members.size < per_class)
+            ids.append(members[np.asarray(pick)])
+    return gather_windows(dataset, np.concatenate(ids), k_windows, spec)

@@ -29,12 +29,12 @@ same bytes. ``GENERATOR_VERSION`` is part of the cache file name; bump it when t
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
 
+from jaxmotion.cache import cache_root
 from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
 from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
 from jaxmotion.data.motion import MotionDataset, concatenate
@@ -107,8 +107,7 @@ def generate(name: str, split: str = "train", *, seed: int = 0, count: int | Non
 
 def cache_path(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> Path:
     """Where :func:`load` keeps a generated split."""
-    root = cache_dir or os.environ.get("JAXMOTION_CACHE") or Path.home() / ".cache" / "jaxmotion"
-    return Path(root) / f"{name}-{split}-seed{seed}-v{GENERATOR_VERSION}.npz"
+    return cache_root(cache_dir) / f"{name}-{split}-seed{seed}-v{GENERATOR_VERSION}.npz"
 
 
 def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> MotionDataset:
