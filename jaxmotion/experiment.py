@@ -95,10 +95,17 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
         config_path.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
     print(f"[{name}] {profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
+    return write_results(ctx.workdir, rows, f"{name} ({profile}, seed {seed})")
+
+
+def write_results(folder: str | Path, rows: Rows, title: str) -> dict[str, Any]:
+    """Write ``rows`` as ``table.md`` (mean ± 95% CI for repeated cells) and ``metrics.json`` (every value,
+    with its summary) in ``folder``; return the ``metrics.json`` content. ``metrics.json`` is written last:
+    in an experiment's seed folder its presence marks the seed as finished."""
+    folder = Path(folder)
     metrics = {"rows": {row: {col: _cell_json(v) for col, v in cells.items()} for row, cells in rows.items()}}
-    (ctx.workdir / "table.md").write_text(format_table(_table_cells(metrics), title=f"{name} ({profile}, seed {seed})"))
-    # Written last: its presence marks the seed as finished.
-    metrics_path.write_text(json.dumps(metrics, indent=2, sort_keys=True) + "\n")
+    (folder / "table.md").write_text(format_table(_table_cells(metrics), title=title))
+    (folder / "metrics.json").write_text(json.dumps(metrics, indent=2, sort_keys=True) + "\n")
     return metrics
 
 

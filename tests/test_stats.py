@@ -5,7 +5,8 @@ import statistics
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
 from jaxmotion.evaluation import Summary, format_table, summarize, t_critical_95
 

@@ -10,19 +10,31 @@ own frame (HumanAct12: y down, root of frame 0 at the origin).
 The original starts the GRU from a random normal hidden state on every call, which makes its features
 random; here the start is zero by default (deterministic; the reference outputs in ``shared/a2m`` were made
 that way), and the random start is available by passing a key.
+
+**Recognisers trained here** (:class:`RecognizerConfig`, :class:`Recognizer`): the evaluators of the
+papers, rebuilt for the embedded datasets — the same GRU classifier at any size (Action2Motion's 2 × 128;
+ODMO's 3 × 256 for UESTC) and ACTOR's ST-GCN (:mod:`jaxmotion.nn.stgcn`) on rot6d. They read motions in
+the canonical frame (root of frame 0 at the origin, facing +Z): where a generator places or turns a
+subject says nothing about the action, and removing it lets a small network reach high accuracy on a CPU
+budget. Training and caching live in :mod:`jaxmotion.evaluation.recognizers`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import dataclasses
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.data.pipeline import canonicalize_motion
+from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
+from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.nn.recurrent import GRUParams, gru_layer
+from jaxmotion.nn.stgcn import STGCN
 
 
 class A2MRecognizerParams(NamedTuple):
@@ -96,3 +108,176 @@ def load_a2m_recognizer(npz_path: str | Path) -> Callable[..., tuple[jax.Array, 
         return apply(params, jnp.asarray(motions, jnp.float32), lengths, key)
 
     return recognize
+
+
+# --- recognisers trained on the embedded data ------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class RecognizerConfig:
+    """An evaluator network and what it reads.
+
+    ``architecture``: ``gru`` (Action2Motion's classifier; ``hidden``, ``layers``, ``feature_dim``) or
+    ``stgcn`` (``channels``, ``strides``, ``temporal_kernel``, ``dropout``; features = the pooled last
+    block, ``channels[-1]``-d). ``inputs``: ``joints`` (positions, translation kept) or ``rot6d`` (joint
+    rotations, no translation, as ACTOR's UESTC ST-GCN). ``canonical``: move every motion to the
+    canonical frame first (needs a skeleton with ``left_hip``/``right_hip``).
+    """
+
+    architecture: Literal["gru", "stgcn"] = "gru"
+    inputs: Literal["joints", "rot6d"] = "joints"
+    canonical: bool = True
+    hidden: int = 128
+    layers: int = 2
+    feature_dim: int = 30
+    channels: tuple[int, ...] = (64, 64, 64, 64, 128, 128, 128, 256, 256, 256)
+    strides: tuple[int, ...] = (1, 1, 1, 1, 2, 1, 1, 2, 1, 1)
+    temporal_kernel: int = 9
+    dropout: float = 0.0
+
+    def __post_init__(self):
+        if len(self.channels) != len(self.strides) or not self.channels:
+            raise ValueError(f"RecognizerConfig: channels ({len(self.channels)}) and strides "
+                             f"({len(self.strides)}) need one entry per ST-GCN block")
+        if min(self.hidden, self.layers, self.feature_dim, self.temporal_kernel) < 1:
+            raise ValueError("RecognizerConfig: hidden, layers, feature_dim and temporal_kernel must be >= 1")
+
+    @classmethod
+    def a2m_gru(cls) -> RecognizerConfig:
+        """Action2Motion's classifier: GRU 2 × 128 on joints, 30-d tanh features."""
+        return cls()
+
+    @classmethod
+    def odmo_gru(cls) -> RecognizerConfig:
+        """ODMO's UESTC classifier: GRU 3 × 256 on joints, 30-d features."""
+        return cls(hidden=256, layers=3)
+
+    @classmethod
+    def actor_stgcn(cls) -> RecognizerConfig:
+        """ACTOR's UESTC evaluator: ST-GCN (10 blocks, 64-256 channels) on rot6d, 256-d features."""
+        return cls(architecture="stgcn", inputs="rot6d")
+
+    @property
+    def features(self) -> int:
+        return self.feature_dim if self.architecture == "gru" else self.channels[-1]
+
+
+def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Mapping[str, jax.Array]) -> jax.Array:
+    """What the network reads, ``[B, T, J, C]`` (C = 3 joints, 6 rot6d), from a batch of motions.
+
+    ``motions``: ``joints [B, T, J, 3]`` (library frame, metres), optional ``translation [B, T, 3]`` (the
+    root; default joint 0), and ``rotations [B, T, J, 3]`` axis-angle (joint 0 global), required for rot6d.
+    """
+    joints = jnp.asarray(motions["joints"], jnp.float32)
+    num_joints = skeleton.num_joints
+    if joints.ndim != 4 or joints.shape[2:] != (num_joints, 3):
+        raise ValueError(f"motions['joints']: expected [B, T, {num_joints}, 3] ({skeleton.name}), "
+                         f"got {tuple(joints.shape)}")
+    rotations = motions.get("rotations")
+    if config.inputs == "rot6d":
+        if rotations is None:
+            raise ValueError("motions['rotations']: this recogniser reads rot6d and needs axis-angle rotations "
+                             f"[B, T, {num_joints}, 3]; the motions have joint positions only")
+        rotations = jnp.asarray(rotations, jnp.float32)
+        if rotations.shape != joints.shape:
+            raise ValueError(f"motions['rotations']: expected {tuple(joints.shape)} like the joints, "
+                             f"got {tuple(rotations.shape)}")
+    if config.canonical:
+        translation = jnp.asarray(motions.get("translation", joints[:, :, 0]), jnp.float32)
+        hips = skeleton.index("left_hip"), skeleton.index("right_hip")
+        joints, _, rotations = canonicalize_motion(joints, translation, rotations if config.inputs == "rot6d"
+                                                   else None, *hips)
+    if config.inputs == "joints":
+        return joints
+    return from_matrix(axis_angle_to_matrix(rotations), "rot6d")
+
+
+def _torch_uniform(key: jax.Array, shape: tuple[int, ...], fan_in: int) -> jax.Array:
+    """PyTorch's default init for GRU and Linear weights and biases: U(-1/sqrt(fan_in), 1/sqrt(fan_in))."""
+    bound = 1.0 / np.sqrt(fan_in)
+    return jax.random.uniform(key, shape, jnp.float32, -bound, bound)
+
+
+def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden: int = 128, layers: int = 2,
+                        feature_dim: int = 30) -> A2MRecognizerParams:
+    """Fresh Action2Motion-layout classifier parameters (PyTorch's default initialisation)."""
+    keys = iter(jax.random.split(key, 4 * layers + 4))
+    grus = []
+    for i in range(layers):
+        d = input_dim if i == 0 else hidden
+        grus.append(GRUParams(*(_torch_uniform(next(keys), shape, hidden)
+                                for shape in ((3 * hidden, d), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,)))))
+    linear1 = (_torch_uniform(next(keys), (feature_dim, hidden), hidden), _torch_uniform(next(keys), (feature_dim,), hidden))
+    linear2 = (_torch_uniform(next(keys), (num_classes, feature_dim), feature_dim),
+               _torch_uniform(next(keys), (num_classes,), feature_dim))
+    return A2MRecognizerParams(tuple(grus), linear1, linear2)
+
+
+def _stgcn(config: RecognizerConfig, skeleton: Skeleton, num_classes: int) -> STGCN:
+    return STGCN(num_classes=num_classes, parents=skeleton.parents, center=0, channels=config.channels,
+                 strides=config.strides, temporal_kernel=config.temporal_kernel, dropout=config.dropout)
+
+
+def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton, num_classes: int,
+                    frames: int = 60) -> dict[str, Any]:
+    """Fresh variables ``{"params": ..., ["batch_stats": ...]}`` for inputs of ``frames`` frames."""
+    channels = 3 if config.inputs == "joints" else 6
+    if config.architecture == "gru":
+        return {"params": init_gru_recognizer(key, skeleton.num_joints * channels, num_classes, config.hidden,
+                                              config.layers, config.feature_dim)}
+    dummy = jnp.zeros((1, frames, skeleton.num_joints, channels), jnp.float32)
+    return dict(_stgcn(config, skeleton, num_classes).init(key, dummy, train=False))
+
+
+def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: int, variables: Mapping[str, Any],
+                     x: jax.Array, lengths: jax.Array | None = None, *, train: bool = False,
+                     key: jax.Array | None = None) -> tuple[tuple[jax.Array, jax.Array], dict[str, Any]]:
+    """``x [B, T, J, C]`` (from :func:`recognizer_inputs`) -> ``((logits [B, K], features [B, D]), updates)``.
+
+    ``lengths [B]``: the GRU reads each sequence at its last real frame (the ST-GCN pools over all frames,
+    as the reference, whose padding repeats the last frame). ``train``: ST-GCN batch statistics from the
+    batch (returned in ``updates``) and dropout from ``key``.
+    """
+    if config.architecture == "gru":
+        outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
+        return outputs, {}
+    model = _stgcn(config, skeleton, num_classes)
+    if not train:
+        return model.apply(variables, x, train=False), {}
+    rngs = {"dropout": key} if key is not None else {}
+    return model.apply(variables, x, train=True, rngs=rngs, mutable=["batch_stats"])
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Recognizer:
+    """A trained evaluator: call it on a batch of motions to get ``(logits [B, K], features [B, D])``.
+
+    ``motions`` is a mapping as :func:`recognizer_inputs` reads it (the pipeline's batches and the
+    generators' outputs are such mappings), with an optional ``lengths [B]``. Large sets are processed in
+    chunks of ``chunk`` sequences.
+    """
+
+    config: RecognizerConfig
+    skeleton: Skeleton
+    class_names: tuple[str, ...]
+    variables: Any
+    chunk: int = 1000
+
+    @property
+    def num_classes(self) -> int:
+        return len(self.class_names)
+
+    def __post_init__(self):
+        def forward(variables, motions):
+            x = recognizer_inputs(self.config, self.skeleton, motions)
+            return apply_recognizer(self.config, self.skeleton, self.num_classes, variables, x,
+                                    motions.get("lengths"))[0]
+
+        object.__setattr__(self, "_forward", jax.jit(forward))
+
+    def __call__(self, motions: Mapping[str, Any]) -> tuple[jax.Array, jax.Array]:
+        keys = [k for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None]
+        total = np.shape(motions["joints"])[0]
+        outputs = [self._forward(self.variables, {k: jnp.asarray(motions[k][i:i + self.chunk]) for k in keys})
+                   for i in range(0, total, self.chunk)]
+        return tuple(jnp.concatenate(parts) for parts in zip(*outputs, strict=True))

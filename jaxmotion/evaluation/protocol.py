@@ -1,0 +1,158 @@
+"""The evaluation protocol: a generator's metric row, and the "Real" row, over R repetitions.
+
+Every paper scores a generator the same way, with different numbers (FACTS.md §3-§6): draw a set of
+real motions, generate motions for the same action labels, pass both through the recogniser, and compute
+accuracy, FID against the real features, diversity and multimodality; repeat R times with fresh draws
+and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part of each experiment's config):
+
+* ACTOR (:meth:`ProtocolConfig.actor`): 20 repetitions; each shuffles the real set and keeps up to 3 000
+  clips, and generates one motion per kept clip, with its label, 60 frames long.
+* ODMO (:meth:`ProtocolConfig.odmo`): 10 repetitions of N generated motions per class (400 CMU, 250
+  HumanAct12, 200 UESTC) against N class-balanced real windows per class.
+* ActFormer (:meth:`ProtocolConfig.actformer`): 100 generated motions per class; it reports one set, no
+  repetitions (``repetitions=1``).
+
+The "Real" row is computed the same way as a generator's: a second, independent draw of the reference
+real set (ACTOR's "gt2") plays the generator's part, so its FID measures how far two real samples lie
+apart, its accuracy is the recogniser's on real motions, and its diversity/multimodality are the data's.
+With several real sets (UESTC: train and test), the FID against each is reported (``FID_train``,
+``FID_test``); labels, accuracy and the Real row use the first set, the reference.
+
+:func:`evaluate` returns rows ``{row: {metric: [R values]}}``, the form an experiment's ``run`` returns;
+the runner writes them to ``table.md`` and ``metrics.json`` (outside an experiment:
+``jaxmotion.experiment.write_results(folder, rows, title)``).
+
+A sampler is any function ``(key, actions [N], durations [N]) -> motions``, where ``motions`` is a mapping
+with ``joints [N, T, J, 3]`` (library frame, metres) and whatever else the recogniser reads
+(``rotations [N, T, J, 3]`` axis-angle for rot6d recognisers, ``translation``, ``lengths``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping
+from typing import Any, Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows
+from jaxmotion.metrics.classification import accuracy, confusion_matrix
+from jaxmotion.metrics.diversity import diversity, multimodality
+from jaxmotion.metrics.fid import fid
+from jaxmotion.models.recognition import Recognizer
+
+Motions = Mapping[str, Any]
+Sampler = Callable[[jax.Array, jax.Array, jax.Array], Motions]
+
+
+@dataclasses.dataclass(frozen=True)
+class ProtocolConfig:
+    """How a paper evaluates (see the module docstring).
+
+    ``sampling``: ``per_real_clip`` (one generated motion per real clip, up to ``max_real`` clips) or
+    ``per_class`` (``per_class`` generated motions and real windows per class). ``duration``: frames of
+    generated motions and real windows. ``chunk``: sequences generated per sampler call.
+    """
+
+    repetitions: int = 20
+    sampling: Literal["per_real_clip", "per_class"] = "per_real_clip"
+    max_real: int = 3000
+    per_class: int = 100
+    duration: int = 60
+    diversity_pairs: int = 200
+    multimodality_pairs: int = 20
+    chunk: int = 500
+
+    def __post_init__(self):
+        for name in ("repetitions", "max_real", "per_class", "duration", "diversity_pairs", "multimodality_pairs",
+                     "chunk"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"ProtocolConfig.{name} must be >= 1, got {getattr(self, name)}")
+
+    @classmethod
+    def actor(cls) -> ProtocolConfig:
+        return cls()
+
+    @classmethod
+    def odmo(cls, per_class: int) -> ProtocolConfig:
+        return cls(repetitions=10, sampling="per_class", per_class=per_class)
+
+    @classmethod
+    def actformer(cls) -> ProtocolConfig:
+        return cls(repetitions=1, sampling="per_class", per_class=100)
+
+
+def real_windows(data: MotionDataset, key: jax.Array, config: ProtocolConfig, canonical: bool) -> dict[str, np.ndarray]:
+    """One repetition's draw of real motions from ``data`` (``config.duration`` frames each)."""
+    spec = BatchSpec(batch_size=1, window=config.duration, canonical=canonical)
+    if config.sampling == "per_class":
+        return class_windows(data, key, spec, config.per_class)
+    return epoch_windows(data, key, spec, min(config.max_real, len(data)))
+
+
+def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: int, chunk: int) -> dict[str, np.ndarray]:
+    """Call ``sampler`` on ``actions [N]`` in chunks of ``chunk`` (the last one padded, so the sampler sees
+    one shape) and concatenate; chunk i uses ``fold_in(key, i)``."""
+    actions = np.asarray(actions, np.int32)
+    size = min(chunk, actions.size)
+    parts = []
+    for i, first in enumerate(range(0, actions.size, size)):
+        part = actions[first:first + size]
+        padded = np.pad(part, (0, size - part.size), mode="edge")
+        motions = sampler(jax.random.fold_in(key, i), jnp.asarray(padded), jnp.full((size,), duration, jnp.int32))
+        if "joints" not in motions:
+            raise ValueError(f"sampler output: expected a mapping with 'joints' [N, T, J, 3], got keys {sorted(motions)}")
+        parts.append({k: np.asarray(v)[:part.size] for k, v in motions.items()})
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+
+def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,
+          references: Mapping[str, jax.Array], config: ProtocolConfig) -> dict[str, float]:
+    """The metrics of one set of motions made for ``actions [N]``: accuracy, ``FID_<name>`` against each
+    reference feature set ``[M, D]`` (just ``FID`` when there is one), diversity, multimodality."""
+    logits, features = recognizer(motions)
+    actions = jnp.asarray(actions)
+    confusion = confusion_matrix(actions, jnp.argmax(logits, -1), recognizer.num_classes)
+    k_div, k_mm = jax.random.split(key)
+    out = {"accuracy": float(accuracy(confusion))}
+    for name, reference in references.items():
+        out["FID" if len(references) == 1 else f"FID_{name}"] = float(fid(features, reference))
+    out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
+    out["multimodality"] = float(multimodality(k_mm, features, actions, recognizer.num_classes,
+                                               config.multimodality_pairs))
+    return out
+
+
+def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer,
+             real: Mapping[str, MotionDataset], config: ProtocolConfig) -> dict[str, dict[str, list[float]]]:
+    """Rows ``{"Real": {metric: [R values]}, <sampler name>: {...}}`` over ``config.repetitions``.
+
+    ``real``: named real sets, the first being the reference (labels, accuracy, the Real row). Every
+    sampler is scored against the same real draws in a repetition. Repetition r uses ``fold_in(key, r)``.
+    """
+    if not real:
+        raise ValueError("real: expected at least one named real dataset")
+    if "Real" in samplers:
+        raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
+    canonical = recognizer.config.canonical
+    rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
+    reference_name = next(iter(real))
+    for r in range(config.repetitions):
+        k_real, k_again, k_score, k_generate = jax.random.split(jax.random.fold_in(key, r), 4)
+        draws = {name: real_windows(data, jax.random.fold_in(k_real, i), config, canonical)
+                 for i, (name, data) in enumerate(real.items())}
+        features = {name: recognizer(draw)[1] for name, draw in draws.items()}
+        actions = draws[reference_name]["actions"]
+        second = real_windows(real[reference_name], k_again, config, canonical)
+        sets = {"Real": (second, second["actions"])}
+        for i, (name, sampler) in enumerate(samplers.items()):
+            sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
+                                   config.chunk), actions)
+        for i, (name, (motions, labels)) in enumerate(sets.items()):
+            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, features, config)
+            for metric, value in metrics.items():
+                rows[name].setdefault(metric, []).append(value)
+    return rows

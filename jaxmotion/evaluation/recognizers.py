@@ -1,0 +1,246 @@
+"""The evaluators: train a recogniser on a dataset once, cache it, and hand it to every evaluation.
+
+A :class:`RecognizerTraining` says everything that determines an evaluator (dataset and its seed, the
+network, the optimiser, the number of steps, the seed). :func:`trained_recognizer` returns the evaluator
+for it: read from the cache when it was trained before, otherwise trained now (resuming from the
+cache folder's last checkpoint if an earlier attempt was interrupted) and then cached. The cache folder
+is ``<cache>/recognizers/<dataset>-<architecture>-<hash of the spec>/`` (``<cache>`` = ``$JAXMOTION_CACHE``
+or ``~/.cache/jaxmotion``) and holds the orbax checkpoints, the training log and ``recognizer.json`` with
+the spec and the held-out accuracy.
+
+The standard evaluators of the papers on the embedded data (:data:`EVALUATORS`, :func:`evaluator_spec`):
+Action2Motion's GRU on joints for synth-humanact12, synth-ntu13 and synth-cmu, ACTOR's ST-GCN on rot6d for
+synth-uestc, and ODMO's 3 × 256 GRU on joints for synth-uestc, each in the three profiles.
+
+Held-out data: the dataset's ``test`` split where it has one (synth-uestc, UESTC); otherwise, for the
+embedded datasets, the same generator run with ``test_data_seed`` (new subjects and new sequences).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optax
+from flax.training.train_state import TrainState
+
+from jaxmotion import config as cfglib
+from jaxmotion.cache import cache_root
+from jaxmotion.data import synthetic
+from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.motion import SKELETONS, MotionDataset
+from jaxmotion.data.pipeline import BatchSpec, epoch_windows, make_batch_fn
+from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.metrics.classification import accuracy, confusion_matrix
+from jaxmotion.models.recognition import (
+    Recognizer,
+    RecognizerConfig,
+    apply_recognizer,
+    init_recognizer,
+    recognizer_inputs,
+)
+from jaxmotion.train.checkpoint import Checkpointer
+from jaxmotion.train.loop import LoopConfig, train
+
+
+@dataclasses.dataclass(frozen=True)
+class RecognizerTraining:
+    """Everything that determines one evaluator.
+
+    ``count``: train on the first ``count`` sequences only (smoke runs). ``test_count``: held-out
+    accuracy on at most this many clips (a random subset; ACTOR's protocol keeps 3 000).
+    """
+
+    dataset: str
+    recognizer: RecognizerConfig
+    steps: int
+    batch_size: int = 64
+    window: int = 60
+    learning_rate: float = 1e-3
+    weight_decay: float = 0.0
+    data_seed: int = 0
+    test_data_seed: int = 1
+    count: int | None = None
+    test_count: int | None = 3000
+    seed: int = 0
+    log_every: int = 100
+    checkpoint_every: int = 500
+
+    def __post_init__(self):
+        if self.steps < 1 or self.batch_size < 1 or self.window < 1:
+            raise ValueError(f"RecognizerTraining: steps, batch_size and window must be >= 1 "
+                             f"(got {self.steps}, {self.batch_size}, {self.window})")
+
+    @property
+    def name(self) -> str:
+        return f"{self.dataset}/{self.recognizer.architecture}"
+
+
+#: The papers' evaluators on the embedded data, by name.
+EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru")
+
+# cpu: sized to reach >= 95% held-out accuracy on a 2-core CPU in minutes. ST-GCN keeps the reference's
+# block design and graph, with 3 blocks of 16-64 channels instead of 10 of 64-256 (about 1/60 of the work).
+_CPU_STGCN = RecognizerConfig(architecture="stgcn", inputs="rot6d", channels=(16, 32, 64), strides=(1, 2, 2))
+
+
+def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
+    """The standard evaluator ``name`` (one of :data:`EVALUATORS`) in ``profile`` (smoke / cpu / paper)."""
+    if name not in EVALUATORS:
+        raise ValueError(f"unknown evaluator {name!r}; expected one of {', '.join(EVALUATORS)}")
+    if profile not in cfglib.PROFILES:
+        raise ValueError(f"profile: expected one of {', '.join(cfglib.PROFILES)}, got {profile!r}")
+    dataset, architecture = name.split("/")
+    odmo = dataset == "synth-uestc" and architecture == "gru"
+    window = 100 if dataset == "synth-cmu" else 60
+    if profile == "smoke":
+        net = (RecognizerConfig(architecture="stgcn", inputs="rot6d", channels=(8, 16), strides=(1, 2))
+               if architecture == "stgcn" else RecognizerConfig(hidden=16, layers=1, feature_dim=8))
+        return RecognizerTraining(dataset, net, steps=20, batch_size=16, window=window, count=120, test_count=60,
+                                  log_every=10, checkpoint_every=20)
+    if profile == "cpu":
+        if architecture == "stgcn":
+            return RecognizerTraining(dataset, _CPU_STGCN, steps=2000, batch_size=32, window=window,
+                                      learning_rate=1e-3, weight_decay=1e-4)
+        if odmo:
+            return RecognizerTraining(dataset, RecognizerConfig.odmo_gru(), steps=2000, batch_size=32, window=window)
+        return RecognizerTraining(dataset, RecognizerConfig.a2m_gru(), steps=3000, window=window)
+    # paper: ACTOR's ST-GCN recipe (AdamW 1e-4, batch 64, 100 epochs of UESTC's 10 650 clips); the GRU
+    # classifiers' training recipe is not published, so they get the same optimiser and length.
+    if architecture == "stgcn":
+        return RecognizerTraining(dataset, RecognizerConfig.actor_stgcn(), steps=16_700, learning_rate=1e-4,
+                                  weight_decay=1e-2, window=window)
+    net = RecognizerConfig.odmo_gru() if odmo else RecognizerConfig.a2m_gru()
+    return RecognizerTraining(dataset, net, steps=16_700, learning_rate=1e-4, window=window)
+
+
+# --- data ------------------------------------------------------------------------------------------
+
+
+def training_data(spec: RecognizerTraining, data_root: str | None = None) -> MotionDataset:
+    return load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count)
+
+
+def held_out_data(spec: RecognizerTraining, data_root: str | None = None) -> MotionDataset:
+    """The dataset's test split, or for embedded datasets without one, a fresh draw with ``test_data_seed``."""
+    if spec.dataset in synthetic.VARIANTS:
+        if "test" in synthetic.VARIANTS[spec.dataset].splits:
+            return load_dataset(spec.dataset, "test", seed=spec.data_seed, count=spec.count)
+        return load_dataset(spec.dataset, "train", seed=spec.test_data_seed, count=spec.count)
+    return load_dataset(spec.dataset, "test", data_root=data_root, count=spec.count)
+
+
+def _batch_spec(spec: RecognizerTraining, canonical: bool) -> BatchSpec:
+    return BatchSpec(batch_size=spec.batch_size, window=spec.window, canonical=canonical)
+
+
+# --- training --------------------------------------------------------------------------------------
+
+
+class RecognizerState(TrainState):
+    batch_stats: Any = None
+
+
+def train_recognizer(spec: RecognizerTraining, workdir: str | Path | None, *, data_root: str | None = None,
+                     progress: bool = True) -> Recognizer:
+    """Train the evaluator ``spec`` (resuming from ``workdir``'s checkpoints) and return it."""
+    data = training_data(spec, data_root)
+    net = spec.recognizer
+    k_init, k_data, k_train = (jax.random.fold_in(jax.random.key(spec.seed), i) for i in range(3))
+    skeleton, num_classes = data.skeleton, data.num_classes
+    state = _initial_state(spec, k_init, skeleton, num_classes)
+
+    def step_fn(state, batch, key):
+        def loss_fn(params):
+            x = recognizer_inputs(net, skeleton, batch)
+            (logits, _), updates = apply_recognizer(net, skeleton, num_classes,
+                                                    {"params": params, "batch_stats": state.batch_stats}, x,
+                                                    batch["lengths"], train=True, key=key)
+            loss = optax.softmax_cross_entropy_with_integer_labels(logits, batch["actions"]).mean()
+            return loss, (updates.get("batch_stats", state.batch_stats), logits)
+
+        (loss, (batch_stats, logits)), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
+        state = state.apply_gradients(grads=grads).replace(batch_stats=batch_stats)
+        return state, {"loss": loss, "accuracy": jnp.mean(jnp.argmax(logits, -1) == batch["actions"])}
+
+    batch_fn = make_batch_fn(data, k_data, _batch_spec(spec, net.canonical))
+    loop = LoopConfig(steps=spec.steps, log_every=spec.log_every, checkpoint_every=spec.checkpoint_every)
+    state = train(state, step_fn, batch_fn, key=k_train, config=loop, workdir=workdir, progress=progress)
+    return _recognizer(spec, data.skeleton, data.class_names, state)
+
+
+def _initial_state(spec: RecognizerTraining, key: jax.Array, skeleton: Skeleton, num_classes: int) -> RecognizerState:
+    variables = init_recognizer(key, spec.recognizer, skeleton, num_classes, spec.window)
+    tx = (optax.adamw(spec.learning_rate, weight_decay=spec.weight_decay) if spec.weight_decay
+          else optax.adam(spec.learning_rate))
+    return RecognizerState.create(apply_fn=None, params=variables["params"], tx=tx,
+                                  batch_stats=variables.get("batch_stats", {}))
+
+
+def _recognizer(spec: RecognizerTraining, skeleton: Skeleton, class_names: tuple[str, ...],
+                state: RecognizerState) -> Recognizer:
+    variables = {"params": state.params}
+    if spec.recognizer.architecture != "gru":
+        variables["batch_stats"] = state.batch_stats
+    return Recognizer(spec.recognizer, skeleton, tuple(class_names), variables)
+
+
+def evaluate_recognizer(recognizer: Recognizer, data: MotionDataset, key: jax.Array, *, window: int,
+                        count: int | None = None) -> dict[str, Any]:
+    """Accuracy and confusion matrix on one window of each of ``count`` random clips of ``data``."""
+    count = len(data) if count is None else min(count, len(data))
+    windows = epoch_windows(data, key, BatchSpec(batch_size=1, window=window, canonical=recognizer.config.canonical),
+                            count)
+    logits, _ = recognizer(windows)
+    confusion = confusion_matrix(jnp.asarray(windows["actions"]), jnp.argmax(logits, -1), recognizer.num_classes)
+    return {"accuracy": float(accuracy(confusion)), "confusion": np.asarray(confusion).tolist(), "clips": count}
+
+
+# --- cache -----------------------------------------------------------------------------------------
+
+
+# Part of every cache key: bump it when a change to training or evaluation code changes what a spec trains.
+CACHE_VERSION = 1
+
+
+def cache_folder(spec: RecognizerTraining, cache_dir: str | Path | None = None, data_root: str | None = None) -> Path:
+    """Where the evaluator ``spec`` is kept: the hash covers the spec, the data source and, for embedded
+    data, the generator version (a regenerated dataset gets a new evaluator)."""
+    source = synthetic.GENERATOR_VERSION if spec.dataset in synthetic.VARIANTS else str(data_root)
+    text = json.dumps({"spec": cfglib.to_dict(spec), "source": source, "version": CACHE_VERSION}, sort_keys=True)
+    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
+    return cache_root(cache_dir) / "recognizers" / f"{spec.dataset}-{spec.recognizer.architecture}-{digest}"
+
+
+def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None = None,
+                       data_root: str | None = None, progress: bool = True) -> tuple[Recognizer, dict[str, Any]]:
+    """The evaluator ``spec`` and its ``recognizer.json`` record (spec, held-out accuracy), trained on
+    first use and read from the cache afterwards."""
+    folder = cache_folder(spec, cache_dir, data_root)
+    record_path = folder / "recognizer.json"
+    if record_path.exists():
+        record = json.loads(record_path.read_text())
+        skeleton = SKELETONS[record["skeleton"]]
+        like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]))
+        with Checkpointer(folder / "checkpoints") as ckpt:
+            state = ckpt.restore(like)
+        return _recognizer(spec, skeleton, record["class_names"], state), record
+    print(f"[evaluator] training {spec.name} ({spec.steps} steps) once; cached in {folder}", file=sys.stderr)
+    folder.mkdir(parents=True, exist_ok=True)
+    recognizer = train_recognizer(spec, folder, data_root=data_root, progress=progress)
+    held_out = evaluate_recognizer(recognizer, held_out_data(spec, data_root), jax.random.key(spec.seed + 1),
+                                   window=spec.window, count=spec.test_count)
+    record = {"spec": cfglib.to_dict(spec), "class_names": list(recognizer.class_names),
+              "skeleton": recognizer.skeleton.name, "held_out": held_out}
+    tmp = record_path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
+    tmp.replace(record_path)  # written last and atomically: its presence marks the evaluator as finished
+    return recognizer, record
+

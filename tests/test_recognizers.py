@@ -1,0 +1,127 @@
+"""Evaluators trained on the embedded data: inputs, invariances, training, caching, the experiment."""
+
+import dataclasses
+import json
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.pipeline import BatchSpec, epoch_windows
+from jaxmotion.evaluation.recognizers import (
+    EVALUATORS,
+    cache_folder,
+    evaluator_spec,
+    trained_recognizer,
+)
+from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
+from jaxmotion.geometry.skeletons import SMPL24
+from jaxmotion.models.recognition import (
+    Recognizer,
+    RecognizerConfig,
+    init_gru_recognizer,
+    init_recognizer,
+    load_a2m_params,
+    recognizer_inputs,
+)
+
+SMALL_GRU = RecognizerConfig(hidden=16, layers=2, feature_dim=8)
+SMALL_STGCN = RecognizerConfig(architecture="stgcn", inputs="rot6d", channels=(8, 16), strides=(1, 2))
+
+
+@pytest.fixture(scope="module")
+def windows():
+    data = load_dataset("synth-humanact12", count=24)
+    return epoch_windows(data, jax.random.key(0), BatchSpec(batch_size=1, window=30, canonical=False), 12)
+
+
+def _untrained(config):
+    variables = init_recognizer(jax.random.key(1), config, SMPL24, 12, frames=30)
+    return Recognizer(config, SMPL24, tuple(f"class {i}" for i in range(12)), variables)
+
+
+def _turn_and_move(motions, angle, shift):
+    """The same motions, turned about the vertical by ``angle`` and moved by ``shift`` (a new placement)."""
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]], np.float32)
+    root = np.asarray(matrix_to_axis_angle(jnp.einsum("ij,btjk->btik", rot, axis_angle_to_matrix(motions["rotations"][:, :, 0]))))
+    rotations = motions["rotations"].copy()
+    rotations[:, :, 0] = root
+    return {"joints": motions["joints"] @ rot.T + shift, "translation": motions["translation"] @ rot.T + shift,
+            "rotations": rotations}
+
+
+@pytest.mark.parametrize("config", [SMALL_GRU, SMALL_STGCN], ids=["gru-joints", "stgcn-rot6d"])
+def test_recognizer_output_does_not_depend_on_placement_or_heading(windows, config):
+    recognizer = _untrained(config)
+    logits, features = recognizer(windows)
+    moved_logits, moved_features = recognizer(_turn_and_move(windows, 2.1, np.array([3.0, 0.0, -1.5], np.float32)))
+    assert features.shape == (12, config.features) and logits.shape == (12, 12)
+    np.testing.assert_allclose(np.asarray(moved_features), np.asarray(features), atol=2e-4)
+    np.testing.assert_allclose(np.asarray(moved_logits), np.asarray(logits), atol=2e-4)
+
+
+def test_rot6d_recognizer_refuses_joint_only_motions(windows):
+    with pytest.raises(ValueError, match=r"motions\['rotations'\].*\[B, T, 24, 3\]"):
+        recognizer_inputs(SMALL_STGCN, SMPL24, {"joints": windows["joints"]})
+    with pytest.raises(ValueError, match=r"motions\['joints'\]: expected \[B, T, 24, 3\]"):
+        recognizer_inputs(SMALL_GRU, SMPL24, {"joints": windows["joints"][..., :20, :]})
+
+
+def test_chunked_calls_equal_one_call(windows):
+    config = SMALL_GRU
+    one = _untrained(config)
+    chunked = dataclasses.replace(one, chunk=5)
+    np.testing.assert_allclose(np.asarray(chunked(windows)[1]), np.asarray(one(windows)[1]), atol=1e-6)
+
+
+def test_fresh_gru_has_the_released_action2motion_layout(shared_dir):
+    released = load_a2m_params(shared_dir / "a2m" / "humanact12_gru_classifier.npz")
+    fresh = init_gru_recognizer(jax.random.key(0), 72, 12)
+    assert jax.tree.map(jnp.shape, fresh) == jax.tree.map(jnp.shape, released)
+
+
+@pytest.mark.parametrize("profile", ["smoke", "cpu", "paper"])
+def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
+    specs = [evaluator_spec(name, profile) for name in EVALUATORS]
+    assert [s.name for s in specs] == list(EVALUATORS)
+    assert specs[3].recognizer.inputs == "rot6d" and specs[4].recognizer.architecture == "gru"
+    if profile != "smoke":
+        assert specs[4].recognizer.hidden == 256 and specs[4].recognizer.layers == 3  # ODMO's UESTC GRU
+    with pytest.raises(ValueError, match="unknown evaluator"):
+        evaluator_spec("synth-uestc/transformer", profile)
+
+
+def test_cache_folder_changes_with_every_field_of_the_spec(tmp_path):
+    spec = evaluator_spec("synth-humanact12/gru", "smoke")
+    folders = {cache_folder(spec, tmp_path), cache_folder(dataclasses.replace(spec, steps=21), tmp_path),
+               cache_folder(dataclasses.replace(spec, seed=1), tmp_path),
+               cache_folder(dataclasses.replace(spec, recognizer=SMALL_GRU), tmp_path)}
+    assert len(folders) == 4
+
+
+@pytest.mark.slow
+def test_trained_evaluator_is_cached_and_read_back_identically(tmp_path, windows):
+    spec = dataclasses.replace(evaluator_spec("synth-humanact12/gru", "smoke"), window=30, steps=10)
+    first, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
+    folder = cache_folder(spec, tmp_path)
+    assert json.loads((folder / "recognizer.json").read_text())["held_out"] == record["held_out"]
+    assert 0.0 <= record["held_out"]["accuracy"] <= 1.0 and record["held_out"]["clips"] == spec.test_count
+    again, record_again = trained_recognizer(spec, cache_dir=tmp_path)
+    assert record_again == record
+    np.testing.assert_array_equal(np.asarray(again(windows)[1]), np.asarray(first(windows)[1]))
+
+
+@pytest.mark.slow
+def test_recognition_experiment_smoke_writes_its_table(tmp_path, monkeypatch):
+    from experiments import recognition
+
+    monkeypatch.setenv("JAXMOTION_CACHE", str(tmp_path / "cache"))
+    result = recognition.main(["--profile", "smoke", "--out", str(tmp_path / "out"),
+                               "--set", 'only=["synth-cmu/gru"]'])
+    row = result["rows"]["synth-cmu/gru"]
+    assert set(row) == {"held-out accuracy (%)", "train accuracy (%)", "held-out clips"}
+    assert 0 <= row["held-out accuracy (%)"] <= 100
+    assert (tmp_path / "out" / "recognition" / "smoke" / "seed-0" / "table.md").exists()
