@@ -1,1 +1,2 @@
-"""Pure-function network layers shared by the models (recurrent cells via ``lax.scan``, ...)."""
+"""Network layers shared by the models: pure-function GRU (``lax.scan``) and Transformer layers over explicit
+parameter pytrees in PyTorch's layout, and the ST-GCN recogniser (Flax)."""
