@@ -1,0 +1,1 @@
+"""Training losses of the generators, as pure jittable functions."""

@@ -1,0 +1,396 @@
+"""Action2Motion's GRU VAE (Guo et al. 2020), the recurrent baseline of ACTOR's Table 3, on joint coordinates.
+
+Sources: A2M ``models/motion_vae.py`` (``GaussianGRU``, ``DecoderGRU``), ``trainer/vae_trainer.py`` (``train``,
+``evaluate``, ``kl_criterion``, ``trainIters``), ``train_motion_vae.py`` and ``checkpoints/vae/*/opt.txt``. Only
+the joint-coordinate ("xyz") variant is implemented, not the Lie-algebra decoder.
+
+**Model.** Axes: ``B`` batch, ``T`` frames, ``F`` pose features (``J·3``, joint-major), ``C`` classes, ``H``
+hidden, ``Z`` latent. At frame ``t`` the condition is
+
+    c_t = [x_prev (F), one_hot(action) (C), t / (L − 1) (1, only with ``time_counter``)]
+
+with ``x_prev = 0`` at ``t = 0`` and ``L`` the sequence length. Three recurrent nets, each a ``Linear`` embedding
+to ``H`` (no activation after it), a stack of GRU cells started from zero hidden states, and linear heads:
+
+* prior ``p(z_t | c_≤t)``: input ``c_t``; 1 GRU cell; heads ``mu_net``, ``logvar_net`` -> ``Z``.
+* posterior ``q(z_t | ·)``: input ``[x_t, one_hot, time]``, i.e. the **current true pose in place of the previous
+  pose** (the same input width as the prior; in the original the posterior does not see ``x_prev``); 1 GRU cell.
+* decoder: input ``[c_t, z_t]`` (in that order); 2 stacked GRU cells; ``output`` Linear -> ``F``.
+
+Training decodes ``z_t`` sampled from the posterior; the prior runs alongside only for the KL. Generation
+samples ``z_t`` from the prior and feeds each output back as the next ``x_prev``.
+
+**Loss** (``Trainer.train``). Per frame, ``nn.MSELoss`` averages over batch *and* features, while
+``kl_criterion`` sums the element-wise Gaussian KL over batch and latent dimensions and divides by the batch
+size. Both are summed over frames (not averaged; the logged values divide by ``T`` afterwards):
+
+    loss = (1/B) Σ_b Σ_t [ (1/F) Σ_f (x_btf − x̂_btf)²  +  λ Σ_z KL(q_btz ‖ p_btz) ]
+
+so the KL of a frame is a per-sample **sum** over the ``Z`` latent dimensions, where the reconstruction of a
+frame is a per-sample **mean** over the ``F`` pose features. ``λ`` is :attr:`A2MVAEConfig.kl_weight`:
+released xyz configurations (``vanila_vae_tf*``) use 1e-4 on every dataset; the Lie ones use 1e-3
+(HumanAct12) and 1e-2 (NTU-13, CMU mocap). ``skip_prob`` (random frames left out of the loss) is 0 in all of
+them and is not implemented.
+
+**The feedback quirk.** The original draws ``random.random() < tf_ratio`` (0.6) **once per training iteration**;
+when it holds, every frame of that batch gets the model's **own** previous output as ``x_prev`` (gradients flow
+through it, it is not detached), otherwise the ground truth ``x_{t−1}`` — the opposite of what the name
+"teacher forcing" suggests. :attr:`A2MVAEConfig.teacher_forcing` is that probability of feeding back the own
+output. ``teacher_forcing_scope="sequence"`` (default) reproduces the code: one Bernoulli draw per loss call,
+shared by all frames and all sequences of the batch. ``"step"`` draws once per frame (shared by the batch), for
+experiments; it is not what the authors ran. The draws come from the ``key`` passed to :func:`a2m_vae_loss`.
+
+**Additions to the original** (documented choices):
+
+* ``mask [B, T]`` (True = real frame; sequences padded at the end, e.g. by repeating their last frame):
+  masked frames add nothing to either term; the divisor stays ``B``. Because every net is causal, padding after
+  a sequence's end cannot influence its real frames, so a padded batch gives the loss of the unpadded one.
+* the time counter of each sequence uses its own length ``L_b`` (number of real frames), ``t / (L_b − 1)``, so
+  that training on a padded batch sees the same counter as generating ``L_b`` frames. Without a mask
+  ``L_b = T`` (the original, where all clips of a batch have ``motion_length`` frames). ``L = 1`` gives 0.
+* per-frame random keys are ``fold_in(key, t)``, so a sequence's first frames draw the same noise whatever
+  the padded length.
+
+**Training configuration** (:class:`A2MTrainConfig`): three torch ``Adam(lr 2e-4, betas (0.9, 0.999),
+weight_decay 1e-5)`` optimisers, one per net (equivalent to one Adam over all parameters: Adam is per
+element); torch's ``weight_decay`` is an L2 term added to the gradient before the Adam moments (not AdamW),
+see :func:`a2m_optimizer`. Batch 128; FACTS gives 50k iterations (the paper), while the released xyz
+``opt.txt`` files record ``iters`` 300k (NTU-13, mocap) and 500k (HumanAct12). Clip length: 60 frames
+(CMU mocap 100). Note also that the released xyz runs have ``time_counter: False`` and the Lie runs ``True``;
+the default here is ``True``.
+
+Parameters mirror the PyTorch module names (``prior_net`` / ``posterior_net``: ``embed``, ``gru.{i}``,
+``mu_net``, ``logvar_net``; ``decoder``: ``embed``, ``gru.{i}``, ``output``), with PyTorch's shapes and its
+default initialisation (every weight and bias U(±1/√fan_in); for GRU cells fan_in = H).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from typing import Literal, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import optax
+
+from jaxmotion.nn.recurrent import GRUParams, gru_cell
+from jaxmotion.nn.transformer import LinearParams, init_linear, linear
+
+# ------------------------------------------------------------------------------------------------- configs
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class A2MVAEConfig:
+    """Sizes and loss settings of the GRU VAE (defaults: the released configurations)."""
+
+    pose_dim: int  # F = J·3 (HumanAct12 72, CMU mocap 60, NTU-13 54)
+    num_classes: int  # C
+    kl_weight: float  # λ; xyz runs 1e-4, Lie runs 1e-3 (HumanAct12) / 1e-2 (NTU-13, mocap)
+    hidden: int = 128
+    latent: int = 30
+    prior_layers: int = 1
+    posterior_layers: int = 1
+    decoder_layers: int = 2
+    time_counter: bool = True
+    teacher_forcing: float = 0.6  # probability of feeding back the model's OWN previous output (``tf_ratio``)
+    teacher_forcing_scope: Literal["sequence", "step"] = "sequence"
+
+    def __post_init__(self):
+        for name in ("pose_dim", "num_classes", "hidden", "latent", "prior_layers", "posterior_layers",
+                     "decoder_layers"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or value < 1:
+                raise ValueError(f"{name}: expected a positive int, got {value!r}")
+        if not self.kl_weight >= 0:
+            raise ValueError(f"kl_weight: expected >= 0, got {self.kl_weight!r}")
+        if not 0.0 <= self.teacher_forcing <= 1.0:
+            raise ValueError(f"teacher_forcing: expected a probability in [0, 1], got {self.teacher_forcing!r}")
+        if self.teacher_forcing_scope not in ("sequence", "step"):
+            raise ValueError(f"teacher_forcing_scope: expected 'sequence' or 'step', got "
+                             f"{self.teacher_forcing_scope!r}")
+
+    @property
+    def condition_dim(self) -> int:
+        """Width of ``c_t`` (and of the posterior's input): ``F + C (+ 1)``."""
+        return self.pose_dim + self.num_classes + int(self.time_counter)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class A2MTrainConfig:
+    """The authors' optimisation settings (``trainIters`` and ``opt.txt``)."""
+
+    learning_rate: float = 2e-4
+    b1: float = 0.9
+    b2: float = 0.999
+    weight_decay: float = 1e-5  # torch Adam's coupled L2 (added to the gradient), not AdamW
+    batch_size: int = 128
+    iterations: int = 50_000  # FACTS / paper; released xyz opt.txt: 300k (NTU-13, mocap), 500k (HumanAct12)
+    frames: int = 60  # clip length (``motion_length``); CMU mocap 100
+
+
+def a2m_optimizer(config: A2MTrainConfig) -> optax.GradientTransformation:
+    """torch ``Adam(lr, betas, weight_decay)``: L2 ``weight_decay · θ`` added to the gradient, then Adam."""
+    adam = optax.adam(config.learning_rate, b1=config.b1, b2=config.b2, eps=1e-8)
+    if config.weight_decay:
+        return optax.chain(optax.add_decayed_weights(config.weight_decay), adam)
+    return adam
+
+
+# ---------------------------------------------------------------------------------------------- parameters
+
+
+class A2MGaussianGRUParams(NamedTuple):
+    """``GaussianGRU``: prior or posterior net."""
+
+    embed: LinearParams  # [H, D_in], [H]
+    gru: tuple[GRUParams, ...]  # cells, input H, hidden H
+    mu_net: LinearParams  # [Z, H], [Z]
+    logvar_net: LinearParams  # [Z, H], [Z]
+
+
+class A2MDecoderParams(NamedTuple):
+    """``DecoderGRU``."""
+
+    embed: LinearParams  # [H, D_in + Z], [H]
+    gru: tuple[GRUParams, ...]
+    output: LinearParams  # [F, H], [F]
+
+
+class A2MVAEParams(NamedTuple):
+    prior_net: A2MGaussianGRUParams
+    posterior_net: A2MGaussianGRUParams
+    decoder: A2MDecoderParams
+
+
+def _init_gru_cell(key: jax.Array, hidden: int) -> GRUParams:
+    """torch ``nn.GRUCell(H, H)``: all four tensors U(±1/√H)."""
+    bound = 1.0 / math.sqrt(hidden)
+    shapes = ((3 * hidden, hidden), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,))
+    return GRUParams(*(jax.random.uniform(k, s, jnp.float32, -bound, bound)
+                       for k, s in zip(jax.random.split(key, 4), shapes)))
+
+
+def _init_gaussian_gru(key: jax.Array, in_dim: int, hidden: int, latent: int, layers: int) -> A2MGaussianGRUParams:
+    k_embed, k_gru, k_mu, k_logvar = jax.random.split(key, 4)
+    return A2MGaussianGRUParams(
+        embed=init_linear(k_embed, in_dim, hidden),
+        gru=tuple(_init_gru_cell(k, hidden) for k in jax.random.split(k_gru, layers)),
+        mu_net=init_linear(k_mu, hidden, latent),
+        logvar_net=init_linear(k_logvar, hidden, latent),
+    )
+
+
+def init_a2m_vae(key: jax.Array, config: A2MVAEConfig) -> A2MVAEParams:
+    """Fresh parameters with PyTorch's default initialisation."""
+    k_prior, k_post, k_dec = jax.random.split(key, 3)
+    d_in, h = config.condition_dim, config.hidden
+    k_embed, k_gru, k_out = jax.random.split(k_dec, 3)
+    decoder = A2MDecoderParams(
+        embed=init_linear(k_embed, d_in + config.latent, h),
+        gru=tuple(_init_gru_cell(k, h) for k in jax.random.split(k_gru, config.decoder_layers)),
+        output=init_linear(k_out, h, config.pose_dim),
+    )
+    return A2MVAEParams(
+        prior_net=_init_gaussian_gru(k_prior, d_in, h, config.latent, config.prior_layers),
+        posterior_net=_init_gaussian_gru(k_post, d_in, h, config.latent, config.posterior_layers),
+        decoder=decoder,
+    )
+
+
+def count_parameters(params) -> int:
+    """Number of scalars in a parameter tree (works on ``jax.eval_shape`` output too)."""
+    return sum(math.prod(leaf.shape) for leaf in jax.tree.leaves(params))
+
+
+# ----------------------------------------------------------------------------------------------- functions
+
+
+def gaussian_kl(mu1: jax.Array, logvar1: jax.Array, mu2: jax.Array, logvar2: jax.Array) -> jax.Array:
+    """Element-wise ``KL(N(mu1, exp(logvar1)) ‖ N(mu2, exp(logvar2)))`` (no reduction)."""
+    return (0.5 * (logvar2 - logvar1) + (jnp.exp(logvar1) + jnp.square(mu1 - mu2)) / (2.0 * jnp.exp(logvar2))
+            - 0.5)
+
+
+def _stack_step(cells: tuple[GRUParams, ...], hs: tuple[jax.Array, ...], x: jax.Array):
+    """Stacked GRU cells: each cell's new state is the next cell's input. Returns (new states, top state)."""
+    new = []
+    for cell, h in zip(cells, hs):
+        x = gru_cell(cell, h, x)
+        new.append(x)
+    return tuple(new), x
+
+
+def _gaussian_step(p: A2MGaussianGRUParams, hs, x):
+    hs, top = _stack_step(p.gru, hs, linear(p.embed, x))
+    return hs, linear(p.mu_net, top), linear(p.logvar_net, top)
+
+
+def _decoder_step(p: A2MDecoderParams, hs, x):
+    hs, top = _stack_step(p.gru, hs, linear(p.embed, x))
+    return hs, linear(p.output, top)
+
+
+def _sample(key: jax.Array, mu: jax.Array, logvar: jax.Array) -> jax.Array:
+    return mu + jnp.exp(0.5 * logvar) * jax.random.normal(key, mu.shape, mu.dtype)
+
+
+def _zeros_state(batch: int, hidden: int, layers: int) -> tuple[jax.Array, ...]:
+    return tuple(jnp.zeros((batch, hidden), jnp.float32) for _ in range(layers))
+
+
+def _step_keys(key: jax.Array, num_frames: int) -> jax.Array:
+    """One key per frame, ``fold_in(key, t)``: frame t's key does not depend on the number of frames."""
+    return jax.vmap(jax.random.fold_in, (None, 0))(key, jnp.arange(num_frames))
+
+
+def _time_counter(lengths: jax.Array, num_frames: int) -> jax.Array:
+    """``lengths [B]`` -> ``[T, B, 1]`` with ``t / (L_b − 1)`` (0 where ``L_b <= 1``)."""
+    t = jnp.arange(num_frames, dtype=jnp.float32)[:, None]
+    denom = jnp.maximum(lengths.astype(jnp.float32) - 1.0, 1.0)[None, :]
+    return (t / denom)[..., None]
+
+
+def _feedback_draws(key: jax.Array, config: A2MVAEConfig, num_frames: int) -> jax.Array:
+    """``[T]`` bool: True where frame t's output (not the ground truth) becomes frame t + 1's ``x_prev``."""
+    if config.teacher_forcing_scope == "sequence":
+        return jnp.broadcast_to(jax.random.bernoulli(key, config.teacher_forcing), (num_frames,))
+    return jax.random.bernoulli(key, config.teacher_forcing, (num_frames,))
+
+
+def _check_actions(actions: jax.Array, batch: int | None = None) -> jax.Array:
+    actions = jnp.asarray(actions)
+    if actions.ndim != 1 or (batch is not None and actions.shape[0] != batch):
+        expected = f"[{batch}]" if batch is not None else "[B]"
+        raise ValueError(f"actions: expected shape {expected} (B,), got {actions.shape}")
+    if not jnp.issubdtype(actions.dtype, jnp.integer):
+        raise ValueError(f"actions: expected integer class indices, got dtype {actions.dtype}")
+    return actions
+
+
+def a2m_vae_forward(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions: jax.Array,
+                    config: A2MVAEConfig, mask: jax.Array | None = None) -> dict[str, jax.Array]:
+    """Training-mode pass: posterior samples, decoding with the feedback quirk, prior alongside.
+
+    ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
+    ``key`` is split into the feedback draw(s) and the per-frame posterior noise.
+
+    Returns ``recon [B, T, F]`` (decoded poses), ``mu_q, logvar_q, mu_p, logvar_p [B, T, Z]``,
+    ``feedback [T]`` (bool, True where frame t's ``x_prev`` was the model's own output; frame 0 always gets
+    zeros) and ``mask [B, T]``.
+    """
+    poses = jnp.asarray(poses)
+    if poses.ndim != 3 or poses.shape[-1] != config.pose_dim or poses.shape[1] < 1:
+        raise ValueError(f"poses: expected shape [B, T, {config.pose_dim}] (B, T >= 1, F = pose_dim), "
+                         f"got {poses.shape}")
+    b, t_len, f = poses.shape
+    actions = _check_actions(actions, b)
+    if mask is None:
+        mask = jnp.ones((b, t_len), bool)
+    else:
+        mask = jnp.asarray(mask)
+        if mask.shape != (b, t_len):
+            raise ValueError(f"mask: expected shape [{b}, {t_len}] (B, T), got {mask.shape}")
+        mask = mask.astype(bool)
+    poses = poses.astype(jnp.float32)
+
+    k_feedback, k_noise = jax.random.split(key)
+    own = _feedback_draws(k_feedback, config, t_len)
+
+    one_hot = jax.nn.one_hot(actions, config.num_classes, dtype=jnp.float32)  # [B, C]
+    poses_t = jnp.swapaxes(poses, 0, 1)  # [T, B, F]
+    if config.time_counter:
+        extras = _time_counter(mask.sum(1), t_len)  # [T, B, 1]
+    else:
+        extras = jnp.zeros((t_len, b, 0), jnp.float32)
+
+    def step(carry, inputs):
+        h_prior, h_post, h_dec, x_prev = carry
+        x_t, extra_t, key_t, own_t = inputs
+        label = jnp.concatenate([one_hot, extra_t], -1)
+        cond = jnp.concatenate([x_prev, label], -1)
+        h_post, mu_q, logvar_q = _gaussian_step(params.posterior_net, h_post, jnp.concatenate([x_t, label], -1))
+        h_prior, mu_p, logvar_p = _gaussian_step(params.prior_net, h_prior, cond)
+        z = _sample(key_t, mu_q, logvar_q)
+        h_dec, x_hat = _decoder_step(params.decoder, h_dec, jnp.concatenate([cond, z], -1))
+        x_next = jnp.where(own_t, x_hat, x_t)
+        return (h_prior, h_post, h_dec, x_next), (x_hat, mu_q, logvar_q, mu_p, logvar_p)
+
+    h = config.hidden
+    carry = (_zeros_state(b, h, config.prior_layers), _zeros_state(b, h, config.posterior_layers),
+             _zeros_state(b, h, config.decoder_layers), jnp.zeros((b, f), jnp.float32))
+    # own[t] decides what becomes x_prev of frame t + 1; shift so that ``feedback[t]`` describes frame t.
+    _, outs = jax.lax.scan(step, carry, (poses_t, extras, _step_keys(k_noise, t_len), own))
+    recon, mu_q, logvar_q, mu_p, logvar_p = (jnp.swapaxes(o, 0, 1) for o in outs)
+    feedback = jnp.concatenate([jnp.zeros((1,), bool), own[:-1]])
+    return dict(recon=recon, mu_q=mu_q, logvar_q=logvar_q, mu_p=mu_p, logvar_p=logvar_p, feedback=feedback,
+                mask=mask)
+
+
+def a2m_vae_loss(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions: jax.Array,
+                 config: A2MVAEConfig, mask: jax.Array | None = None) -> tuple[jax.Array, dict[str, jax.Array]]:
+    """``(loss, metrics)`` of a batch; see the module docstring for the exact normalisation.
+
+    ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
+    ``metrics``: ``loss``, ``recon`` (Σ_t MSE), ``kl`` (Σ_t KL / B, before λ), and the per-frame averages the
+    authors log, ``loss_per_frame``, ``recon_per_frame``, ``kl_per_frame`` (divided by the mean number of
+    real frames per sequence, which is ``T`` without a mask).
+    """
+    out = a2m_vae_forward(params, key, poses, actions, config, mask)
+    b = out["recon"].shape[0]
+    m = out["mask"].astype(jnp.float32)  # [B, T]
+    se = jnp.square(out["recon"] - jnp.asarray(poses, jnp.float32)).mean(-1)  # [B, T]
+    kl = gaussian_kl(out["mu_q"], out["logvar_q"], out["mu_p"], out["logvar_p"]).sum(-1)  # [B, T]
+    recon = (se * m).sum() / b
+    kl = (kl * m).sum() / b
+    loss = recon + config.kl_weight * kl
+    frames = jnp.maximum(m.sum() / b, 1.0)
+    metrics = dict(loss=loss, recon=recon, kl=kl, loss_per_frame=loss / frames, recon_per_frame=recon / frames,
+                   kl_per_frame=kl / frames)
+    return loss, metrics
+
+
+def a2m_generate(params: A2MVAEParams, key: jax.Array, actions: jax.Array, num_frames: int,
+                 config: A2MVAEConfig) -> jax.Array:
+    """Sample motions: ``actions [B]`` (int) -> ``poses [B, num_frames, F]``.
+
+    ``z_t`` from the learned prior, each output fed back as the next ``x_prev`` (zeros at frame 0), time
+    counter ``t / (num_frames − 1)``. ``num_frames`` is a Python int (static under ``jit``).
+    """
+    if not isinstance(num_frames, int) or num_frames < 1:
+        raise ValueError(f"num_frames: expected a positive int, got {num_frames!r}")
+    actions = _check_actions(actions)
+    b = actions.shape[0]
+    one_hot = jax.nn.one_hot(actions, config.num_classes, dtype=jnp.float32)
+    if config.time_counter:
+        extras = _time_counter(jnp.full((b,), num_frames), num_frames)
+    else:
+        extras = jnp.zeros((num_frames, b, 0), jnp.float32)
+
+    def step(carry, inputs):
+        h_prior, h_dec, x_prev = carry
+        extra_t, key_t = inputs
+        cond = jnp.concatenate([x_prev, one_hot, extra_t], -1)
+        h_prior, mu_p, logvar_p = _gaussian_step(params.prior_net, h_prior, cond)
+        z = _sample(key_t, mu_p, logvar_p)
+        h_dec, x_hat = _decoder_step(params.decoder, h_dec, jnp.concatenate([cond, z], -1))
+        return (h_prior, h_dec, x_hat), x_hat
+
+    carry = (_zeros_state(b, config.hidden, config.prior_layers),
+             _zeros_state(b, config.hidden, config.decoder_layers), jnp.zeros((b, config.pose_dim), jnp.float32))
+    _, poses = jax.lax.scan(step, carry, (extras, _step_keys(key, num_frames)))
+    return jnp.swapaxes(poses, 0, 1)
+
+
+def make_a2m_train_step(config: A2MVAEConfig, optimizer: optax.GradientTransformation) -> Callable:
+    """A jitted ``step(params, opt_state, key, poses, actions, mask) -> (params, opt_state, metrics)``
+    (``mask`` may be None; a different mask-ness retraces)."""
+
+    @jax.jit
+    def step(params, opt_state, key, poses, actions, mask=None):
+        grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(params, key, poses, actions, config, mask)
+        updates, opt_state = optimizer.update(grads, opt_state, params)
+        return optax.apply_updates(params, updates), opt_state, metrics
+
+    return step
