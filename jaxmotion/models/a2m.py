@@ -75,7 +75,7 @@ import jax
 import jax.numpy as jnp
 import optax
 
-from jaxmotion.nn.recurrent import GRUParams, gru_cell
+from jaxmotion.nn.recurrent import GRUParams, gru_cell, init_gru
 from jaxmotion.nn.transformer import LinearParams, init_linear, linear
 
 # ------------------------------------------------------------------------------------------------- configs
@@ -164,19 +164,11 @@ class A2MVAEParams(NamedTuple):
     decoder: A2MDecoderParams
 
 
-def _init_gru_cell(key: jax.Array, hidden: int) -> GRUParams:
-    """torch ``nn.GRUCell(H, H)``: all four tensors U(±1/√H)."""
-    bound = 1.0 / math.sqrt(hidden)
-    shapes = ((3 * hidden, hidden), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,))
-    return GRUParams(*(jax.random.uniform(k, s, jnp.float32, -bound, bound)
-                       for k, s in zip(jax.random.split(key, 4), shapes)))
-
-
 def _init_gaussian_gru(key: jax.Array, in_dim: int, hidden: int, latent: int, layers: int) -> A2MGaussianGRUParams:
     k_embed, k_gru, k_mu, k_logvar = jax.random.split(key, 4)
     return A2MGaussianGRUParams(
         embed=init_linear(k_embed, in_dim, hidden),
-        gru=tuple(_init_gru_cell(k, hidden) for k in jax.random.split(k_gru, layers)),
+        gru=tuple(init_gru(k, hidden, hidden) for k in jax.random.split(k_gru, layers)),
         mu_net=init_linear(k_mu, hidden, latent),
         logvar_net=init_linear(k_logvar, hidden, latent),
     )
@@ -189,7 +181,7 @@ def init_a2m_vae(key: jax.Array, config: A2MVAEConfig) -> A2MVAEParams:
     k_embed, k_gru, k_out = jax.random.split(k_dec, 3)
     decoder = A2MDecoderParams(
         embed=init_linear(k_embed, d_in + config.latent, h),
-        gru=tuple(_init_gru_cell(k, h) for k in jax.random.split(k_gru, config.decoder_layers)),
+        gru=tuple(init_gru(k, h, h) for k in jax.random.split(k_gru, config.decoder_layers)),
         output=init_linear(k_out, h, config.pose_dim),
     )
     return A2MVAEParams(

@@ -33,7 +33,7 @@ import numpy as np
 from jaxmotion.data.pipeline import canonicalize_motion
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import Skeleton
-from jaxmotion.nn.recurrent import GRUParams, gru_layer
+from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
 from jaxmotion.nn.stgcn import STGCN
 
 
@@ -89,9 +89,7 @@ def a2m_recognize(params: A2MRecognizerParams, motions: jax.Array, lengths: jax.
         starts = [jnp.zeros((batch, hidden), motions.dtype)] * len(params.layers)
     else:
         starts = list(jax.random.normal(key, (len(params.layers), batch, hidden), motions.dtype))
-    xs = jnp.swapaxes(motions, 0, 1)  # [T, B, F]
-    for layer, h0 in zip(params.layers, starts, strict=True):
-        xs = gru_layer(layer, xs, h0)
+    xs = gru_stack(params.layers, jnp.swapaxes(motions, 0, 1), tuple(starts))  # [T, B, H]
     last = jnp.full((batch,), frames - 1) if lengths is None else jnp.asarray(lengths) - 1
     top = xs[last, jnp.arange(batch)]  # [B, H]
     features = jnp.tanh(top @ params.linear1[0].T + params.linear1[1])
@@ -201,15 +199,11 @@ def _torch_uniform(key: jax.Array, shape: tuple[int, ...], fan_in: int) -> jax.A
 def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden: int = 128, layers: int = 2,
                         feature_dim: int = 30) -> A2MRecognizerParams:
     """Fresh Action2Motion-layout classifier parameters (PyTorch's default initialisation)."""
-    keys = iter(jax.random.split(key, 4 * layers + 4))
-    grus = []
-    for i in range(layers):
-        d = input_dim if i == 0 else hidden
-        grus.append(GRUParams(*(_torch_uniform(next(keys), shape, hidden)
-                                for shape in ((3 * hidden, d), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,)))))
-    linear1 = (_torch_uniform(next(keys), (feature_dim, hidden), hidden), _torch_uniform(next(keys), (feature_dim,), hidden))
-    linear2 = (_torch_uniform(next(keys), (num_classes, feature_dim), feature_dim),
-               _torch_uniform(next(keys), (num_classes,), feature_dim))
+    k_gru, k1w, k1b, k2w, k2b = jax.random.split(key, 5)
+    grus = [init_gru(k, input_dim if i == 0 else hidden, hidden) for i, k in enumerate(jax.random.split(k_gru, layers))]
+    linear1 = (_torch_uniform(k1w, (feature_dim, hidden), hidden), _torch_uniform(k1b, (feature_dim,), hidden))
+    linear2 = (_torch_uniform(k2w, (num_classes, feature_dim), feature_dim),
+               _torch_uniform(k2b, (num_classes,), feature_dim))
     return A2MRecognizerParams(tuple(grus), linear1, linear2)
 
 

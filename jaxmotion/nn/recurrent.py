@@ -36,11 +36,28 @@ def gru_cell(p: GRUParams, h: jax.Array, x: jax.Array) -> jax.Array:
     return (1.0 - z) * n + z * h
 
 
-def gru_layer(p: GRUParams, xs: jax.Array, h0: jax.Array) -> jax.Array:
-    """Run a GRU over time: ``xs [T, B, D]``, ``h0 [B, H]`` -> outputs ``[T, B, H]``."""
+def init_gru(key: jax.Array, input_dim: int, hidden: int) -> GRUParams:
+    """PyTorch's default GRU initialisation: all four tensors uniform in ±1/sqrt(H)."""
+    bound = 1.0 / jnp.sqrt(hidden)
+    shapes = ((3 * hidden, input_dim), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,))
+    return GRUParams(*(jax.random.uniform(k, shape, jnp.float32, -bound, bound)
+                       for k, shape in zip(jax.random.split(key, 4), shapes, strict=True)))
 
-    def step(h, x):
-        h = gru_cell(p, h, x)
-        return h, h
 
-    return jax.lax.scan(step, h0, xs)[1]
+def gru_stack(layers: tuple[GRUParams, ...], xs: jax.Array, h0: tuple[jax.Array, ...]) -> jax.Array:
+    """A multi-layer GRU over time: ``xs [T, B, D]``, one ``h0 [B, H]`` per layer -> top outputs ``[T, B, H]``.
+
+    All layers advance in one ``lax.scan`` step per frame (layer l reads layer l-1's new state), which
+    halves the loop trips of running the layers one after another; the result is the same.
+    """
+    if len(layers) != len(h0) or not layers:
+        raise ValueError(f"h0: expected one initial state per layer ({len(layers)}), got {len(h0)}")
+
+    def step(hs, x):
+        new = []
+        for p, h in zip(layers, hs, strict=True):
+            x = gru_cell(p, h, x)
+            new.append(x)
+        return tuple(new), x
+
+    return jax.lax.scan(step, tuple(h0), xs)[1]
