@@ -17,8 +17,10 @@ settings.register_profile(
 settings.load_profile("jaxmotion")
 
 
+import functools  # noqa: E402
 import pathlib  # noqa: E402
 
+import jax  # noqa: E402
 import pytest  # noqa: E402
 
 
@@ -29,3 +31,14 @@ def shared_dir() -> pathlib.Path:
     if not (root / "a2m").is_dir():
         pytest.skip(f"shared reference files not found at {root} (set JAXMOTION_SHARED to their folder)")
     return root
+
+
+@functools.cache
+def _jitted(fn, static=()):
+    return jax.jit(fn, static_argnames=static)
+
+
+@pytest.fixture(params=["eager", "jit"])
+def compile(request):
+    """Run a kernel as it is or under ``jax.jit``: ``compile(fn, static=("num_classes",))(*args)``."""
+    return (lambda fn, static=(): fn) if request.param == "eager" else _jitted

@@ -5,7 +5,6 @@ Every kernel runs eagerly and under ``jax.jit`` (the ``compile`` fixture). Compi
 [T, J] = [4, 3], and jitted functions are built once per static-argument set.
 """
 
-import functools
 
 import jax
 import numpy as np
@@ -19,15 +18,6 @@ T, J = 4, 3
 RTOL = 1e-4
 
 
-@functools.cache
-def jitted(fn, static=()):
-    return jax.jit(fn, static_argnames=static)
-
-
-@pytest.fixture(params=["eager", "jit"])
-def compile(request):
-    """The function itself, or it under ``jax.jit`` with the given static argument names."""
-    return (lambda fn, static=(): fn) if request.param == "eager" else jitted
 
 
 def motions(seed, n=13, offset=0.0):

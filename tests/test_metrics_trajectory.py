@@ -4,7 +4,6 @@ Every kernel runs eagerly and under ``jax.jit`` (the ``compile`` fixture); the t
 shape [N, T, J] = [9, 6, 3] so that each function compiles about once.
 """
 
-import functools
 
 import jax
 import numpy as np
@@ -26,14 +25,6 @@ LENGTHS = np.array([6, 3, 1, 5, 6, 2, 4, 6, 3])
 RTOL = 1e-4
 
 
-@functools.cache
-def jitted(fn, static=()):
-    return jax.jit(fn, static_argnames=static)
-
-
-@pytest.fixture(params=["eager", "jit"])
-def compile(request):
-    return (lambda fn, static=(): fn) if request.param == "eager" else jitted
 
 
 def motions(seed):
@@ -116,7 +107,7 @@ def test_trajectory_error_is_invariant_to_a_common_ground_translation(seed, shif
     shift = np.asarray(shift, np.float32)
     moved = x.copy()
     moved[..., [0, 2]] += shift
-    fn = jitted(trajectory_error_per_sample)
+    fn = jax.jit(trajectory_error_per_sample)
     np.testing.assert_allclose(
         fn(moved, trajectories + shift, LENGTHS), fn(x, trajectories, LENGTHS), rtol=1e-3, atol=1e-4
     )

@@ -4,7 +4,6 @@ Every kernel runs eagerly and under ``jax.jit`` (the ``compile`` fixture). To ke
 gap tests share one motion shape [T, J] = [20, 4] with three transitions, and the QR tests one [M, A].
 """
 
-import functools
 
 import jax
 import numpy as np
@@ -23,16 +22,6 @@ from jaxmotion.metrics.transitions import (
 T, J = 20, 4
 BOUNDARIES = np.array([4, 9, 15])  # actions of 4, 5, 6 and 5 frames
 RTOL = 1e-4
-
-
-@functools.cache
-def jitted(fn):
-    return jax.jit(fn)
-
-
-@pytest.fixture(params=["eager", "jit"])
-def compile(request):
-    return (lambda fn: fn) if request.param == "eager" else jitted
 
 
 def motion(seed, batch=()):
@@ -116,7 +105,7 @@ def test_velocity_gap_of_a_reversal_is_twice_the_speed(compile):
 def test_gaps_are_invariant_to_rigid_motion_of_the_whole_scene(seed, shift):
     x = motion(seed)
     moved = x @ random_rotation(seed).T + np.asarray(shift, np.float32)
-    gaps = jitted(transition_gaps)
+    gaps = jax.jit(transition_gaps)
     for got, expected in zip(gaps(moved, BOUNDARIES), gaps(x, BOUNDARIES), strict=True):
         np.testing.assert_allclose(got, expected, rtol=1e-3, atol=1e-3)
 
@@ -165,8 +154,8 @@ def test_motion_qr_counts_motions_with_every_action_correct(compile):
 def test_qrs_match_python_reference(bits):
     correct = np.array(bits).reshape(M, A)
     expected_action, expected_motion = reference_qrs(correct.tolist())
-    np.testing.assert_allclose(jitted(action_qr)(correct), expected_action, rtol=RTOL)
-    np.testing.assert_allclose(jitted(motion_qr)(correct), expected_motion, rtol=RTOL)
+    np.testing.assert_allclose(jax.jit(action_qr)(correct), expected_action, rtol=RTOL)
+    np.testing.assert_allclose(jax.jit(motion_qr)(correct), expected_motion, rtol=RTOL)
 
 
 def test_qr_curves_are_the_qrs_of_the_first_n_actions(compile):
