@@ -8,6 +8,7 @@
 | :mod:`~jaxmotion.metrics.apd` | APD, n-APD, mode-homogeneity | ODMO |
 | :mod:`~jaxmotion.metrics.transitions` | Δpose, Δvel, action- and motion-level qualification ratios | Marionette |
 | :mod:`~jaxmotion.metrics.trajectory` | ΔTraj, end-point error dist_e and hit rate | Marionette, ODMO |
+| :mod:`~jaxmotion.metrics.smoothness` | jitter (mean joint acceleration) | ACTOR (denoising) |
 
 Mean ± 95% interval over repetitions: :func:`jaxmotion.evaluation.summarize`.
 """
@@ -27,6 +28,7 @@ from jaxmotion.metrics.fid import (
     frechet_distance,
     gaussian_stats,
 )
+from jaxmotion.metrics.smoothness import mean_acceleration
 from jaxmotion.metrics.trajectory import (
     end_point_error,
     end_point_hit_rate,
@@ -45,7 +47,8 @@ from jaxmotion.metrics.transitions import (
 __all__ = [
     "accuracy", "action_qr", "aggregate_persons", "apd", "apd_per_class", "confusion_matrix", "diversity",
     "end_point_error", "end_point_hit_rate", "end_point_squared_error", "fid", "fid_class_mean",
-    "fid_per_class", "frechet_distance", "gaussian_stats", "mean_class_recall", "mean_transition_gaps",
+    "fid_per_class", "frechet_distance", "gaussian_stats", "mean_acceleration", "mean_class_recall",
+    "mean_transition_gaps",
     "mode_homogeneity", "motion_qr", "multimodality", "n_apd", "qualification_ratio_curves",
     "trajectory_error", "trajectory_error_per_sample", "transition_gaps",
 ]
