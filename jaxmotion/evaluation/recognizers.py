@@ -110,7 +110,7 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
             return RecognizerTraining(dataset, _CPU_STGCN, steps=800, batch_size=32, window=window,
                                       learning_rate=1e-3, weight_decay=1e-4)
         if odmo:
-            return RecognizerTraining(dataset, RecognizerConfig.odmo_gru(), steps=1000, batch_size=32, window=window)
+            return RecognizerTraining(dataset, RecognizerConfig.odmo_gru(), steps=3000, batch_size=32, window=window)
         return RecognizerTraining(dataset, RecognizerConfig.a2m_gru(), steps=1500, window=window)
     # paper: ACTOR's ST-GCN recipe (AdamW 1e-4, batch 64, 100 epochs of UESTC's 10 650 clips); the GRU
     # classifiers' training recipe is not published, so they get the same optimiser and length.
