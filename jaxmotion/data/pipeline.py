@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 from collections.abc import Callable
-from typing import Literal
+from typing import Any, Literal
 
 import jax
 import jax.numpy as jnp
@@ -297,14 +297,29 @@ def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec
                          f"got shape {ids.shape}" + (f" with range [{ids.min()}, {ids.max()}]" if ids.size else ""))
     tables = _tables(dataset, spec)
     hips = tables.pop("hips")
-    size = min(chunk, ids.size)
+    return map_in_chunks(lambda i, part: _gather(tables, jnp.asarray(part), jax.random.fold_in(key, i), spec, hips),
+                         ids, chunk)
+
+
+def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int) -> Any:
+    """Apply ``fn(i, chunk_i)`` to consecutive chunks of ``size`` rows of ``rows`` (a pytree of arrays
+    sharing a leading axis N) and concatenate its outputs (a pytree of arrays with a leading row axis) on
+    the host. The last chunk is padded by repeating its last row, so ``fn`` sees one shape (one
+    compilation); the padding's outputs are dropped."""
+    total = jax.tree.leaves(rows)[0].shape[0]
+    size = min(size, total)
     parts = []
-    for i, first in enumerate(range(0, ids.size, size)):
-        part = ids[first:first + size]
-        padded = np.pad(part, (0, size - part.size), mode="edge")  # one shape, one compilation
-        out = _gather(tables, jnp.asarray(padded), jax.random.fold_in(key, i), spec, hips)
-        parts.append({k: np.asarray(v)[:part.size] for k, v in out.items()})
-    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    for i, first in enumerate(range(0, total, size)):
+        count = min(size, total - first)
+
+        def padded(a, first=first, count=count):
+            part = np.asarray(a)[first:first + count]
+            return np.pad(part, [(0, size - count)] + [(0, 0)] * (part.ndim - 1), mode="edge")
+
+        out = fn(i, jax.tree.map(padded, rows))
+        parts.append(jax.tree.map(lambda a, count=count: np.asarray(a)[:count], out))
+    return jax.tree.map(lambda *chunks: np.concatenate(chunks), *parts)
+
 
 def epoch_windows(dataset: MotionDataset, key: jax.Array, spec: BatchSpec, count: int | None = None) -> dict[str, np.ndarray]:
     """One window from each of ``count`` distinct sequences (default: all), as one host batch dict.

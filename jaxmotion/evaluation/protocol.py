@@ -38,7 +38,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows
+from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.metrics.diversity import diversity, multimodality
 from jaxmotion.metrics.fid import fid
@@ -96,17 +96,13 @@ def real_windows(data: MotionDataset, key: jax.Array, config: ProtocolConfig, ca
 def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: int, chunk: int) -> dict[str, np.ndarray]:
     """Call ``sampler`` on ``actions [N]`` in chunks of ``chunk`` (the last one padded, so the sampler sees
     one shape) and concatenate; chunk i uses ``fold_in(key, i)``."""
-    actions = np.asarray(actions, np.int32)
-    size = min(chunk, actions.size)
-    parts = []
-    for i, first in enumerate(range(0, actions.size, size)):
-        part = actions[first:first + size]
-        padded = np.pad(part, (0, size - part.size), mode="edge")
-        motions = sampler(jax.random.fold_in(key, i), jnp.asarray(padded), jnp.full((size,), duration, jnp.int32))
+    def sample(i, part):
+        motions = sampler(jax.random.fold_in(key, i), jnp.asarray(part), jnp.full(part.shape, duration, jnp.int32))
         if "joints" not in motions:
             raise ValueError(f"sampler output: expected a mapping with 'joints' [N, T, J, 3], got keys {sorted(motions)}")
-        parts.append({k: np.asarray(v)[:part.size] for k, v in motions.items()})
-    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+        return dict(motions)
+
+    return map_in_chunks(sample, np.asarray(actions, np.int32), chunk)
 
 
 def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,

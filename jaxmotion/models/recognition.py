@@ -30,7 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxmotion.data.pipeline import canonicalize_motion
+from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
@@ -248,7 +248,7 @@ class Recognizer:
 
     ``motions`` is a mapping as :func:`recognizer_inputs` reads it (the pipeline's batches and the
     generators' outputs are such mappings), with an optional ``lengths [B]``. Large sets are processed in
-    chunks of ``chunk`` sequences.
+    chunks of ``chunk`` sequences (one shape, one compilation).
     """
 
     config: RecognizerConfig
@@ -270,8 +270,5 @@ class Recognizer:
         object.__setattr__(self, "_forward", jax.jit(forward))
 
     def __call__(self, motions: Mapping[str, Any]) -> tuple[jax.Array, jax.Array]:
-        keys = [k for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None]
-        total = np.shape(motions["joints"])[0]
-        outputs = [self._forward(self.variables, {k: jnp.asarray(motions[k][i:i + self.chunk]) for k in keys})
-                   for i in range(0, total, self.chunk)]
-        return tuple(jnp.concatenate(parts) for parts in zip(*outputs, strict=True))
+        rows = {k: motions[k] for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None}
+        return map_in_chunks(lambda _, part: self._forward(self.variables, part), rows, self.chunk)
