@@ -7,7 +7,8 @@ import pytest
 
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.train.actor import ActorTraining, actor_sampler, train_actor
+from jaxmotion.pipelines.actor import actor_sampler
+from jaxmotion.train.actor import ActorTraining, train_actor
 
 TINY = ActorTraining(ActorConfig(num_classes=12, latent=16, ff=32, layers=1, heads=2), steps=4, batch_size=8,
                      window=20, log_every=2, checkpoint_every=2)

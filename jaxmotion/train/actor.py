@@ -1,11 +1,10 @@
-"""Training ACTOR and sampling from it: what every ACTOR experiment shares.
+"""Training ACTOR: what every ACTOR experiment shares.
 
 :class:`ActorTraining` holds the data window, the optimiser (AdamW, fixed learning rate, batch 20 in the
 paper), the loss weights and the length of training; :func:`train_actor` fits the model on a dataset
 with the minimal loop (jitted step, ``fold_in(key, step)`` randomness, orbax checkpoints, resume);
-:func:`actor_sampler` turns trained parameters into the evaluation protocol's sampler, returning joints
-(forward kinematics of the generated rotations on the dataset's mean skeleton, plus the generated
-translation), rotations and translation.
+:func:`motions_from_features` turns the model's tensor into the library's motions (generation, denoising
+and the protocol's sampler are in :mod:`jaxmotion.pipelines.actor`).
 
 Axes: B batch, T frames, J joints, C channels.
 """
@@ -13,10 +12,8 @@ Axes: B batch, T frames, J joints, C channels.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import optax
 from flax.training.train_state import TrainState
@@ -28,7 +25,7 @@ from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import REPRESENTATIONS, axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.losses.actor import ActorLossWeights, actor_loss
-from jaxmotion.models.actor import ActorConfig, ActorParams, autoencode, generate, init_actor
+from jaxmotion.models.actor import ActorConfig, ActorParams, autoencode, init_actor
 from jaxmotion.train.loop import LoopConfig, train
 
 
@@ -103,26 +100,3 @@ def motions_from_features(x: jax.Array, mask: jax.Array, rep: str, skeleton: Ske
     joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, skeleton.offsets, skeleton.parents)
     return {"joints": joints, "rotations": rotations, "translation": translation, "mask": mask,
             "lengths": mask.sum(axis=1)}
-
-
-def actor_sampler(params: ActorParams, training: ActorTraining, skeleton: Skeleton) -> Any:
-    """The protocol's sampler ``(key, actions [N], durations [N]) -> motions``: z ~ N(0, I), decoded for
-    ``max(durations)`` frames (shorter ones padded by their last frame, as real windows are)."""
-    config, rep = training.model, training.rep
-
-    @jax.jit(static_argnames="frames")
-    def sample(key, actions, durations, frames):
-        x, mask = generate(params, config, key, actions, durations, frames)
-        motions = motions_from_features(x, mask, rep, skeleton)
-        last = jnp.maximum(motions["lengths"] - 1, 0)
-        # repeat each sequence's last real frame over its padding, like the pipeline's windows
-        index = jnp.minimum(jnp.arange(frames)[None, :], last[:, None])
-        for name in ("joints", "rotations", "translation"):
-            motions[name] = jnp.take_along_axis(motions[name], index.reshape(*index.shape, *([1] * (motions[name].ndim - 2))),
-                                                axis=1)
-        return motions
-
-    def sampler(key, actions, durations):
-        return sample(key, jnp.asarray(actions), jnp.asarray(durations), int(np.max(durations)))
-
-    return sampler

@@ -1,0 +1,1 @@
+"""Pipelines: trained models put to use (generation, denoising, interpolation, pictures)."""
