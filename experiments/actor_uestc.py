@@ -6,7 +6,7 @@ generates one 60-frame motion per clip with its label; features from the UESTC r
 rot6d); FID against the training set (FID_tr) and the test set (FID_test); mean ± 95% CI.
 
     python -m experiments.actor_uestc                   # cpu profile on the embedded synth-uestc
-    python -m experiments.actor_uestc --profile paper --data-root data/uestc --set dataset=uestc
+    python -m experiments.actor_uestc --profile paper --data-root data/uestc --set data.name=uestc evaluator.dataset=uestc
 
 Reported (Table 2, "Transformer", 8 layers; UESTC): FID_tr 20.49±2.31, FID_test 23.43±2.20,
 Acc. 91.1±0.3, Div. 31.96±0.36, Multimod. 14.66±0.03; Real: 2.93±0.26, 2.79±0.29, 98.8±0.1,
@@ -21,27 +21,30 @@ the checkpoints of the trained model.
 from __future__ import annotations
 
 import dataclasses
-
-import numpy as np
+from typing import Any, ClassVar
 
 from jaxmotion import experiment
-from jaxmotion.data.datasets import load_dataset
-from jaxmotion.data.motion import Motion, pack
-from jaxmotion.data.preview import render_grid
-from jaxmotion.evaluation.protocol import ProtocolConfig, evaluate
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
+from jaxmotion.evaluation.actor_tables import (
+    ActorData,
+    evaluate_variants,
+    load_actor_data,
+    replace_path,
+    run_variants,
+    samplers_of,
+    train_variants,
+)
+from jaxmotion.evaluation.protocol import ProtocolConfig
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.train.actor import ActorTraining, actor_sampler, train_actor
+from jaxmotion.pipelines.actor import generation_grid
+from jaxmotion.train.actor import ActorTraining
 
 # Paper Table 2 (UESTC), means only: the runner's cells are numbers.
 REPORTED = {
     "Real (reported)": {"FID_tr": 2.93, "FID_test": 2.79, "Acc. (%)": 98.8, "Div.": 33.34, "Multimod.": 14.16},
     "ACTOR (reported)": {"FID_tr": 20.49, "FID_test": 23.43, "Acc. (%)": 91.1, "Div.": 31.96, "Multimod.": 14.66},
 }
-# the protocol's metric names -> the paper's column names, in the paper's order
-COLUMNS = {"FID_tr": "FID_tr", "FID_test": "FID_test", "accuracy": "Acc. (%)", "diversity": "Div.",
-           "multimodality": "Multimod."}
 UESTC_CLASSES = 40
 UESTC_EPOCH = 10_650 // 20  # steps per epoch at batch 20
 
@@ -51,17 +54,16 @@ class ActorUestcConfig:
     training: ActorTraining
     evaluator: RecognizerTraining
     protocol: ProtocolConfig
-    dataset: str = "synth-uestc"
-    data_seed: int = 0
-    count: int | None = None  # first sequences of each split only (smoke)
+    data: ActorData = ActorData()
     picture_actions: int = 6  # actions shown in generated.gif, 3 samples each
 
     @classmethod
     def smoke(cls) -> ActorUestcConfig:
-        model = ActorConfig(num_classes=UESTC_CLASSES, latent=16, ff=32, layers=1, heads=2)
+        # no dropout: compiling threefry dropout masks costs ~25 s per model on this CPU (unit tests cover it)
+        model = ActorConfig(num_classes=UESTC_CLASSES, latent=16, ff=32, layers=1, heads=2, dropout=0.0)
         return cls(training=ActorTraining(model, steps=4, batch_size=8, log_every=2, checkpoint_every=2),
                    evaluator=evaluator_spec("synth-uestc/stgcn", "smoke"),
-                   protocol=ProtocolConfig(repetitions=2, max_real=40, chunk=40), count=80, picture_actions=2)
+                   protocol=ProtocolConfig(repetitions=2, max_real=40, chunk=40), data=ActorData(count=80), picture_actions=2)
 
     @classmethod
     def cpu(cls) -> ActorUestcConfig:
@@ -81,30 +83,59 @@ class ActorUestcConfig:
                    evaluator=evaluator_spec("synth-uestc/stgcn", "paper"), protocol=ProtocolConfig.actor())
 
 
-def generated_grid(sampler, key, class_names, skeleton, fps, actions: int, path) -> None:
-    """Save a GIF of 3 generated 60-frame motions for each of the first ``actions`` actions."""
-    labels = np.repeat(np.arange(actions), 3)
-    motions = sampler(key, labels, np.full(labels.shape, 60))
-    records = [Motion(joints=np.asarray(motions["joints"][i]), translation=np.asarray(motions["translation"][i]),
-                      rotations=np.asarray(motions["rotations"][i]), action=int(a), mode=i % 3)
-               for i, a in enumerate(labels)]
-    data = pack(records, name="generated", split="generated", class_names=class_names, skeleton=skeleton, fps=fps,
-                mode_names=[("sample 1", "sample 2", "sample 3")] * len(class_names))
-    render_grid(data, list(range(actions)), str(path))
+@dataclasses.dataclass(frozen=True)
+class UestcSweep:
+    """The headline run with one training field swept, one table row per value (the appendix ablations).
+
+    Subclasses name the field (``FIELD``, a dotted path into :class:`ActorTraining`), give ``values`` its
+    type and the paper's values, the smoke profile's values and the row label.
+    """
+
+    setup: ActorUestcConfig  # the headline run each row varies
+    values: tuple[Any, ...]
+    FIELD: ClassVar[str]
+    SMOKE_VALUES: ClassVar[tuple[Any, ...]]
+
+    def __post_init__(self):
+        if not self.values:
+            raise ValueError(f"values: expected at least one value of {self.FIELD}")
+
+    @classmethod
+    def smoke(cls):
+        return cls(ActorUestcConfig.smoke(), values=cls.SMOKE_VALUES)
+
+    @classmethod
+    def cpu(cls):
+        return cls(ActorUestcConfig.cpu())
+
+    @classmethod
+    def paper(cls):
+        return cls(ActorUestcConfig.paper())
+
+    def label(self, value) -> str:
+        return f"{self.FIELD} = {value}"
+
+    def variants(self) -> dict[str, ActorTraining]:
+        return {self.label(value): replace_path(self.setup.training, self.FIELD, value) for value in self.values}
+
+
+def run_sweep(config: UestcSweep, ctx: experiment.RunContext):
+    setup = config.setup
+    return run_variants(config.variants(), setup.data, setup.evaluator, setup.protocol, workdir=ctx.workdir,
+                        train_key=ctx.key("train"), eval_key=ctx.key("eval"), data_root=ctx.data_root)
 
 
 def run(config: ActorUestcConfig, ctx: experiment.RunContext):
-    train = load_dataset(config.dataset, "train", seed=config.data_seed, data_root=ctx.data_root, count=config.count)
-    test = load_dataset(config.dataset, "test", seed=config.data_seed, data_root=ctx.data_root, count=config.count)
-    params = train_actor(train, config.training, ctx.key("train"), str(ctx.workdir))
-    recognizer, _ = trained_recognizer(config.evaluator, data_root=ctx.data_root)
-    sampler = actor_sampler(params, config.training, train.skeleton)
-    rows = evaluate(ctx.key("eval"), {"ACTOR": sampler}, recognizer, {"tr": train, "test": test}, config.protocol)
-    table = {name: {column: 100 * np.asarray(cells[k]) if k == "accuracy" else cells[k] for k, column in COLUMNS.items()}
-             for name, cells in rows.items()}
-    generated_grid(sampler, ctx.key("pictures"), train.class_names, train.skeleton, train.fps,
-                   min(config.picture_actions, train.num_classes), ctx.workdir / "generated.gif")
-    return {"ACTOR": table["ACTOR"], "Real": table["Real"], **REPORTED}
+    real = load_actor_data(config.data, ctx.data_root)
+    variants = {"ACTOR": config.training}
+    params = train_variants(variants, real["tr"], ctx.key("train"), ctx.workdir)
+    samplers = samplers_of(params, variants, real["tr"])
+    rows = evaluate_variants(ctx.key("eval"), samplers, real, config.evaluator, config.protocol,
+                             data_root=ctx.data_root)
+    train = real["tr"]
+    generation_grid(params["ACTOR"], config.training, ctx.key("pictures"), train.skeleton, train.class_names,
+                    train.fps, min(config.picture_actions, train.num_classes), ctx.workdir / "generated.gif")
+    return {**rows, **REPORTED}
 
 
 def main(argv=None):
