@@ -43,12 +43,12 @@ import jax
 import numpy as np
 
 from experiments.actor_durations import save_curves
-from experiments.actor_recognition import real_plus_generated, train_recognizer_on
+from experiments.actor_recognition import real_plus_generated
 from experiments.actor_uestc import ActorUestcConfig
 from jaxmotion import experiment
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.actor_tables import ActorData, load_actor_data, slug
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, train_recognizer
 from jaxmotion.pipelines.actor import generate_motions
 from jaxmotion.train.actor import ActorTraining, train_actor
 
@@ -111,7 +111,7 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
                                      np.full(len(labels), training.window), train.skeleton,
                                      class_names=train.class_names, fps=train.fps, split="train")
         for row, data in ((REAL, part), (AUGMENTED, real_plus_generated(part, generated))):
-            recognizer = train_recognizer_on(spec, data, ctx.workdir / "recognizers" / slug(f"{row} {column}"))
+            recognizer = train_recognizer(spec, ctx.workdir / "recognizers" / slug(f"{row} {column}"), data=data)
             rows[row][column] = 100 * evaluate_recognizer(recognizer, test, ctx.key("test"), window=spec.window,
                                                           count=spec.test_count)["accuracy"]
     save_curves(ctx.workdir / "augmentation.png", [100 * f for f in config.fractions],

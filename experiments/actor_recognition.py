@@ -47,8 +47,6 @@ each recogniser's in ``recognizers/<row>/``.
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
-from unittest import mock
 
 import jax.numpy as jnp
 import numpy as np
@@ -57,11 +55,9 @@ from experiments.actor_uestc import ActorUestcConfig
 from jaxmotion import experiment
 from jaxmotion.data.motion import MotionDataset, concatenate
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows, gather_windows
-from jaxmotion.evaluation import recognizers
 from jaxmotion.evaluation.actor_tables import ActorData, load_actor_data, slug, train_variants
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, train_recognizer
 from jaxmotion.metrics.smoothness import mean_acceleration
-from jaxmotion.models.recognition import Recognizer
 from jaxmotion.pipelines.actor import denoise, generate_motions, interpolated_set, noisy, to_dataset
 from jaxmotion.train.actor import ActorTraining
 
@@ -102,16 +98,6 @@ class ActorRecognitionConfig:
     def paper(cls) -> ActorRecognitionConfig:
         base = ActorUestcConfig.paper()
         return cls(base.training, base.evaluator, base.data)
-
-
-def train_recognizer_on(spec: RecognizerTraining, data: MotionDataset, workdir: Path) -> Recognizer:
-    """The recogniser ``spec`` trained on ``data`` instead of ``spec.dataset`` (resuming from ``workdir``).
-
-    ``train_recognizer`` reads its training set through ``recognizers.training_data``; replacing that
-    lookup for the call reuses its whole recipe (step, batches, checkpoints) unchanged.
-    """
-    with mock.patch.object(recognizers, "training_data", lambda *_: data):
-        return train_recognizer(spec, workdir)
 
 
 def real_plus_generated(real: MotionDataset, generated: MotionDataset) -> MotionDataset:
@@ -155,7 +141,7 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
     test_sets = {name: pack(motions, name, "test") for name, motions in test_motions.items()}
     rows = {}
     for name, data in training_sets.items():
-        recognizer = train_recognizer_on(config.recognizer, data, ctx.workdir / "recognizers" / slug(name))
+        recognizer = train_recognizer(config.recognizer, ctx.workdir / "recognizers" / slug(name), data=data)
         rows[name] = {f"{test_name} test": 100 * evaluate_recognizer(recognizer, test_set, ctx.key("test"),
                                                                      window=config.recognizer.window)["accuracy"]
                       for test_name, test_set in test_sets.items()}

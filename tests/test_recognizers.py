@@ -92,14 +92,22 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
         assert specs[4].recognizer.hidden == 256 and specs[4].recognizer.layers == 3  # ODMO's UESTC GRU
     with pytest.raises(ValueError, match="unknown evaluator"):
         evaluator_spec("synth-uestc/transformer", profile)
+    # only the embedded-data ST-GCN is trained with input noise; the paper profile keeps the reference recipe
+    assert [s.input_noise > 0 for s in specs] == [False, False, False, profile != "paper", False]
+
+
+def test_negative_input_noise_is_refused():
+    with pytest.raises(ValueError, match="input_noise"):
+        dataclasses.replace(evaluator_spec("synth-uestc/stgcn", "smoke"), input_noise=-0.1)
 
 
 def test_cache_folder_changes_with_every_field_of_the_spec(tmp_path):
     spec = evaluator_spec("synth-humanact12/gru", "smoke")
     folders = {cache_folder(spec, tmp_path), cache_folder(dataclasses.replace(spec, steps=21), tmp_path),
                cache_folder(dataclasses.replace(spec, seed=1), tmp_path),
-               cache_folder(dataclasses.replace(spec, recognizer=SMALL_GRU), tmp_path)}
-    assert len(folders) == 4
+               cache_folder(dataclasses.replace(spec, recognizer=SMALL_GRU), tmp_path),
+               cache_folder(dataclasses.replace(spec, input_noise=0.01), tmp_path)}
+    assert len(folders) == 5
 
 
 @pytest.mark.slow

@@ -37,8 +37,10 @@ import numpy as np
 
 from jaxmotion.data.motion import Motion, MotionDataset
 from jaxmotion.data.pipeline import (
+    BatchSpec,
     Padding,
     canonicalize_motion,
+    gather_windows,
     map_in_chunks,
     to_actor_features,
     window_frames,
@@ -47,7 +49,7 @@ from jaxmotion.data.preview import render_grid
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import Skeleton
-from jaxmotion.models.actor import ActorConfig, ActorParams, decode, encode, length_mask
+from jaxmotion.models.actor import ActorConfig, AnyActorParams, decode, encode, length_mask
 from jaxmotion.train.actor import ActorTraining, motions_from_features
 
 _FIELDS = ("joints", "rotations", "translation")
@@ -69,7 +71,7 @@ def _repad(motions: dict[str, jax.Array], padding: Padding) -> dict[str, jax.Arr
 
 
 @functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
-def decode_motions(params: ActorParams, z: jax.Array, actions: jax.Array, mask: jax.Array, *, config: ActorConfig,
+def decode_motions(params: AnyActorParams, z: jax.Array, actions: jax.Array, mask: jax.Array, *, config: ActorConfig,
                    rep: str, skeleton: Skeleton, padding: Padding = "last") -> dict[str, jax.Array]:
     """Decode ``z [B, d]`` with ``actions [B]`` over ``mask [B, T]`` (True on each row's first frames) into
     the batch dict (joints by forward kinematics on ``skeleton``, translation relative to frame 0), padded
@@ -80,7 +82,7 @@ def decode_motions(params: ActorParams, z: jax.Array, actions: jax.Array, mask: 
 
 
 @functools.partial(jax.jit, static_argnames=("config", "rep"))
-def posterior(params: ActorParams, rotations: jax.Array, translation: jax.Array, actions: jax.Array, mask: jax.Array,
+def posterior(params: AnyActorParams, rotations: jax.Array, translation: jax.Array, actions: jax.Array, mask: jax.Array,
               *, config: ActorConfig, rep: str) -> tuple[jax.Array, jax.Array]:
     """The encoder's ``(mu [B, d], logvar [B, d])`` of ``rotations [B, T, J, 3]`` (axis-angle),
     ``translation [B, T, 3]`` with ``actions [B]`` over ``mask [B, T]``; no dropout. Jitted."""
@@ -92,7 +94,7 @@ def _row_normals(key_data: jax.Array, width: int) -> jax.Array:
 
 
 @functools.partial(jax.jit, static_argnames=("frames", "config", "rep", "skeleton"))
-def _generate(params: ActorParams, key_data: jax.Array, actions: jax.Array, durations: jax.Array, *, frames: int,
+def _generate(params: AnyActorParams, key_data: jax.Array, actions: jax.Array, durations: jax.Array, *, frames: int,
               config: ActorConfig, rep: str, skeleton: Skeleton) -> dict[str, jax.Array]:
     z = _row_normals(key_data, config.latent)
     return decode_motions(params, z, actions, length_mask(durations, frames), config=config, rep=rep,
@@ -100,7 +102,7 @@ def _generate(params: ActorParams, key_data: jax.Array, actions: jax.Array, dura
 
 
 @functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
-def _denoise(params: ActorParams, rotations: jax.Array, translation: jax.Array, lengths: jax.Array,
+def _denoise(params: AnyActorParams, rotations: jax.Array, translation: jax.Array, lengths: jax.Array,
              actions: jax.Array, key_data: jax.Array | None, *, config: ActorConfig, rep: str, skeleton: Skeleton,
              padding: Padding) -> dict[str, jax.Array]:
     mask = length_mask(lengths, rotations.shape[1])
@@ -112,7 +114,7 @@ def _denoise(params: ActorParams, rotations: jax.Array, translation: jax.Array, 
 
 
 @functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "hips", "padding"))
-def _interpolate(params: ActorParams, joints: jax.Array, translation: jax.Array, rotations: jax.Array,
+def _interpolate(params: AnyActorParams, joints: jax.Array, translation: jax.Array, rotations: jax.Array,
                  lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig, rep: str,
                  skeleton: Skeleton, hips: tuple[int, int] | None, padding: Padding) -> dict[str, jax.Array]:
     """Two padded motions ``[2, T, ...]`` -> their S decoded interpolants (``weights [S]``), decoded with
@@ -225,7 +227,7 @@ def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fp
 # --- use cases -------------------------------------------------------------------------------------
 
 
-def generate_motions(params: ActorParams, training: ActorTraining, key: jax.Array, actions, durations,
+def generate_motions(params: AnyActorParams, training: ActorTraining, key: jax.Array, actions, durations,
                      skeleton: Skeleton, *, class_names: Sequence[str] | None = None, fps: float = 20.0,
                      name: str = "actor", split: str = "generated", chunk: int = 256) -> MotionDataset:
     """Generate one motion per ``(actions[n], durations[n])``: ``z ~ N(0, I)`` (row n drawn with
@@ -254,7 +256,7 @@ def generate_motions(params: ActorParams, training: ActorTraining, key: jax.Arra
     return to_dataset(motions, skeleton, class_names, fps, name=name, split=split)
 
 
-def actor_sampler(params: ActorParams, training: ActorTraining, skeleton: Skeleton):
+def actor_sampler(params: AnyActorParams, training: ActorTraining, skeleton: Skeleton):
     """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions`` (the batch dict,
     ``T = max(durations)``, shorter rows padded by their last frame as real windows are). Row n's noise is
     ``fold_in(key, n)``, as in :func:`generate_motions`."""
@@ -269,7 +271,7 @@ def actor_sampler(params: ActorParams, training: ActorTraining, skeleton: Skelet
     return sampler
 
 
-def denoise(params: ActorParams, training: ActorTraining, motions: dict, skeleton: Skeleton, *,
+def denoise(params: AnyActorParams, training: ActorTraining, motions: dict, skeleton: Skeleton, *,
             key: jax.Array | None = None, padding: Padding = "last", chunk: int = 256) -> dict[str, np.ndarray]:
     """ACTOR's denoising (use case I): encode each motion with its true action, decode for the same length.
 
@@ -300,7 +302,7 @@ def denoise(params: ActorParams, training: ActorTraining, motions: dict, skeleto
     return map_in_chunks(run, rows, chunk)
 
 
-def interpolate(params: ActorParams, training: ActorTraining, motion_a: Motion, motion_b: Motion,
+def interpolate(params: AnyActorParams, training: ActorTraining, motion_a: Motion, motion_b: Motion,
                 action_a: int | None = None, action_b: int | None = None, steps: int = 5, *, skeleton: Skeleton,
                 window: int | None = None, padding: Padding = "last") -> dict[str, np.ndarray]:
     """Decoded linear interpolants between the posterior means of two real motions (use case II,
@@ -371,7 +373,7 @@ def noisy(key: jax.Array, motions: dict, sigma: float, skeleton: Skeleton, *, tr
     return {**{k: np.asarray(v) for k, v in motions.items()}, **jax.tree.map(np.asarray, out)}
 
 
-def generation_grid(params: ActorParams, training: ActorTraining, key: jax.Array, skeleton: Skeleton,
+def generation_grid(params: AnyActorParams, training: ActorTraining, key: jax.Array, skeleton: Skeleton,
                     class_names: Sequence[str], fps: float, actions: int | Sequence[int], path: str | Path,
                     per_action: int = 3, duration: int = 60) -> MotionDataset:
     """Save Figure 5's picture: a GIF grid, one row per action (``actions``: a list of class indices, or a
@@ -391,3 +393,62 @@ def generation_grid(params: ActorParams, training: ActorTraining, key: jax.Array
                                mode_names=(samples,) * len(class_names))
     render_grid(data, actions, str(path))
     return data
+
+
+# --- training sets ---------------------------------------------------------------------------------
+
+
+@functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
+def _interpolate_pairs(params: AnyActorParams, joints: jax.Array, translation: jax.Array, rotations: jax.Array,
+                       lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig, rep: str,
+                       skeleton: Skeleton, padding: Padding) -> dict[str, jax.Array]:
+    """P pairs of canonical windows ``[P, 2, T, ...]`` with one weight each ``[P]`` -> P interpolants
+    ``[P, T, ...]`` (:func:`_interpolate` per pair)."""
+    def one(j, t, r, n, a, w):
+        out = _interpolate(params, j, t, r, n, a, w[None], config=config, rep=rep, skeleton=skeleton, hips=None,
+                           padding=padding)
+        return jax.tree.map(lambda x: x[0], out)
+
+    return jax.vmap(one)(joints, translation, rotations, lengths, actions, weights)
+
+
+def interpolated_set(params: AnyActorParams, training: ActorTraining, data: MotionDataset, key: jax.Array, count: int,
+                     *, padding: Padding = "last", chunk: int = 256) -> MotionDataset:
+    """Use case II's "Real_interpolated" training set: ``count`` decoded interpolants between the posterior
+    means of two real motions of the same action (the batched form of :func:`interpolate`).
+
+    Row n takes a clip ``a`` drawn uniformly from ``data``, a clip ``b`` drawn uniformly among the clips of
+    ``a``'s action (``a`` itself included) and a weight ``w ~ U(0, 1)``; each clip keeps one random
+    ``training.window``-frame window in the canonical pose (as training windows are drawn), and the row
+    decodes ``(1 - w) μ_a + w μ_b`` with that action for ``round((1 - w) n_a + w n_b)`` frames. Returns the
+    packed interpolants (``data``'s classes, skeleton and fps; translation relative to frame 0).
+    """
+    config = training.model
+    _check_model(training, data.skeleton)
+    if count < 1:
+        raise ValueError(f"count: expected >= 1 interpolants, got {count}")
+    if data.rotations is None or len(data) == 0:
+        raise ValueError(f"data: {data.name}/{data.split} needs joint rotations and at least one clip")
+    if data.num_classes != config.num_classes:
+        raise ValueError(f"data: {data.name} has {data.num_classes} classes, the model {config.num_classes}")
+    k_a, k_b, k_w, k_windows = jax.random.split(key, 4)
+    a = np.asarray(jax.random.randint(k_a, (count,), 0, len(data)))
+    # b: a uniform position within a's class, read from the clips sorted by class
+    by_class = np.argsort(data.actions, kind="stable")
+    sizes = np.bincount(data.actions, minlength=data.num_classes)
+    firsts = np.cumsum(sizes) - sizes
+    actions = data.actions[a]
+    within = np.floor(np.asarray(jax.random.uniform(k_b, (count,))) * sizes[actions]).astype(np.int64)
+    b = by_class[firsts[actions] + np.minimum(within, sizes[actions] - 1)]
+    windows = gather_windows(data, np.concatenate([a, b]), k_windows, BatchSpec(batch_size=1, window=training.window))
+    pairs = {name: np.stack([windows[name][:count], windows[name][count:]], axis=1)
+             for name in ("joints", "translation", "rotations", "lengths", "actions")}
+    pairs["weights"] = np.asarray(jax.random.uniform(k_w, (count,)))
+
+    def run(_, part):
+        return _interpolate_pairs(params, part["joints"], part["translation"], part["rotations"], part["lengths"],
+                                  part["actions"], part["weights"], config=config, rep=training.rep,
+                                  skeleton=data.skeleton, padding=padding)
+
+    motions = map_in_chunks(run, pairs, chunk)
+    return to_dataset(motions, data.skeleton, data.class_names, data.fps, name="interpolated", split="train")
