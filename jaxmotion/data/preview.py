@@ -146,11 +146,18 @@ def _draw_3d(ax, joints: np.ndarray, skeleton: Skeleton) -> None:
     ax.set_axis_off()
 
 
+def _on_floor(joints: np.ndarray) -> np.ndarray:
+    """``joints [T, J, 3]`` raised or lowered so the lowest joint of the clip touches the floor (y = 0): motions
+    in a model's frame (root of frame 0 at the origin) are then drawn like captured ones."""
+    return joints - np.array([0.0, joints[..., 1].min(), 0.0])
+
+
 def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still: bool = False,
                 max_frames: int = 80, key_frames: int = 5) -> None:
     """Save a grid (rows = classes, columns = modes; one example each): an animated GIF of 3D skeletons
     following their root, or with ``still`` a PNG where each cell shows ``key_frames`` evenly spaced poses
-    side by side (oblique view, each centred on its root, facing the viewer at frame 0)."""
+    side by side (oblique view, each centred on its root, facing the viewer at frame 0). Each motion
+    stands on the floor line (its lowest joint over the clip at height 0)."""
     rows = _examples(data, classes)
     skeleton = data.skeleton
     fig, cells = _grid_axes(rows, data, three_d=not still, cell_width=0.75 * key_frames if still else 2.4)
@@ -158,7 +165,7 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
         for ax, motion in cells:
             if motion is not None:
                 index = np.linspace(0, motion.num_frames - 1, key_frames).round().astype(int)
-                _strip(ax, _facing_viewer(motion.joints, skeleton), skeleton, index, "oblique", spacing=0.9,
+                _strip(ax, _facing_viewer(_on_floor(motion.joints), skeleton), skeleton, index, "oblique", spacing=0.9,
                        lw=1.4, labels=False)
                 ax.set_axis_off()
         fig.tight_layout()
@@ -170,7 +177,7 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
     def update(frame):
         for ax, motion in cells:
             if motion is not None:
-                _draw_3d(ax, motion.joints[min(frame, motion.num_frames - 1)], skeleton)
+                _draw_3d(ax, _on_floor(motion.joints)[min(frame, motion.num_frames - 1)], skeleton)
         return []
 
     FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps))

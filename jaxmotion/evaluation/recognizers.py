@@ -173,7 +173,8 @@ def train_recognizer(spec: RecognizerTraining, workdir: str | Path | None, *, da
     state = _initial_state(spec, k_init, skeleton, num_classes)
 
     def step_fn(state, batch, key):
-        k_noise, key = jax.random.split(key)
+        if spec.input_noise:  # without noise the keys stay as they were before the option existed
+            k_noise, key = jax.random.split(key)
 
         def loss_fn(params):
             x = recognizer_inputs(net, skeleton, batch)
