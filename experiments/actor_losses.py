@@ -41,8 +41,11 @@ paper prints as "3M*" and "4M*" (millions: "coordinate-based losses alone do not
 those cells are left out. Note that L_R + L_V's numbers equal Table 2's Transformer and the headline model,
 which trains with the translation: the paper may report that run here.
 
-cpu profile: d 64, 2 layers, 1 200 steps per row; 3 rows × 2 datasets; about 20 minutes on a 2-core CPU
-including the two evaluators' first training (estimated from measured step times, see ``CPU``).
+cpu profile: d 64, 2 layers, 1 500 steps per row, 3 runnable rows × 2 datasets, 5 repetitions of up to
+1 000 motions. Estimated from step times measured on the 2-core CPU with nothing else running (see ``CPU``;
+about 1.7 times longer while another job shares it): about 20 minutes (training 15, compiling 2, evaluating
+3), plus about 6 minutes the first time, to train and cache the two evaluators (shared with the other ACTOR
+experiments).
 """
 
 from __future__ import annotations
@@ -81,9 +84,10 @@ STAND_IN = "L_R + L_J (stand-in for L_R + L_V)"
 STAND_IN_TERMS = {"rotations": 1.0, "joints": 1.0}
 NOT_RUN = " (needs an SMPL model: not run)"
 
-# d 64, 2 layers, FF 256; a larger learning rate for the short budget (the paper trains 390 000 / 532 000 steps)
-CPU = ActorTraining(ActorConfig(num_classes=1, latent=64, ff=256, layers=2, heads=4), steps=1200,
-                    learning_rate=3e-4, log_every=100, checkpoint_every=400)
+# d 64, 2 layers, FF 256; a larger learning rate for the short budget (the paper: 390 000 / 532 000 steps at 1e-4).
+# Measured on the 2-core CPU: 0.08-0.12 s per step, 20-30 s to compile each row's step.
+CPU = ActorTraining(ActorConfig(num_classes=1, latent=64, ff=256, layers=2, heads=4), steps=1500,
+                    learning_rate=3e-4, log_every=100, checkpoint_every=500)
 
 
 # Table 1, means: UESTC FID_tr, FID_test, Acc., Div., Multimod.; NTU-13 FID_tr, Acc., Div., Multimod.
@@ -121,7 +125,8 @@ class ActorLossesConfig:
 
 
 def row_name(label: str, has_body: bool) -> str:
-    return label if has_body or "L_V" not in label else label + NOT_RUN
+    """The row of ``label`` (a key of ``LOSSES``, or "Real"): marked as not run where it needs a body model."""
+    return label + NOT_RUN if not has_body and "vertices" in LOSSES.get(label, {}) else label
 
 
 def loss_variants(training: ActorTraining, has_body: bool) -> dict[str, ActorTraining]:
@@ -150,8 +155,9 @@ def run(config: ActorLossesConfig, ctx: experiment.RunContext):
 
     def samplers(dataset: TableDataset, train: MotionDataset, workdir: Path, key: jax.Array):
         variants = loss_variants(dataset.training, body is not None)
-        vertex_rows = {name for name, training in variants.items() if training.losses.vertices}
+        vertex_rows = [name for name, training in variants.items() if training.losses.vertices]
         params = train_variants({n: t for n, t in variants.items() if n not in vertex_rows}, train, key, workdir)
+        # train_variants takes no body model: the L_V rows train here, in the folders it would give them
         params.update({name: train_actor(train, variants[name], key, str(workdir / slug(name)), body=body)
                        for name in vertex_rows})
         return {name: without_translation(s) for name, s in samplers_of(params, variants, train).items()}

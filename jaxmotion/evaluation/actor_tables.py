@@ -169,14 +169,18 @@ EMBEDDED = {
 }
 
 
-def embedded_table_dataset(label: str, profile: str, cpu: ActorTraining) -> TableDataset:
+CPU_PROTOCOL = ProtocolConfig(repetitions=5, max_real=1000)
+
+
+def embedded_table_dataset(label: str, profile: str, cpu: ActorTraining,
+                           cpu_protocol: ProtocolConfig = CPU_PROTOCOL) -> TableDataset:
     """The embedded stand-in of the paper's dataset ``label`` (a key of :data:`EMBEDDED`) in ``profile``.
 
     smoke: a 1-layer model without dropout (its random bits triple a step's compile time on CPU), L_P only,
-    2 steps, 80 clips, 2 repetitions of 40 motions. cpu: the experiment's ``cpu`` training (sized to its
-    budget), 5 repetitions of up to 1 000 motions. paper: the paper's model, batch 20 and epochs, L_P + L_J
-    (L_J stands in for the paper's L_V, which needs an SMPL model), ACTOR's protocol. The model's number of
-    classes is set to the dataset's in every profile.
+    2 steps, 80 clips, 2 repetitions of 40 motions. cpu: the experiment's ``cpu`` training and protocol
+    (sized to its budget; by default 5 repetitions of up to 1 000 motions). paper: the paper's model, batch
+    20 and epochs, L_P + L_J (L_J stands in for the paper's L_V, which needs an SMPL model), ACTOR's
+    protocol. The model's number of classes is set to the dataset's in every profile.
     """
     if label not in EMBEDDED:
         raise ValueError(f"label: expected one of {sorted(EMBEDDED)}, got {label!r}")
@@ -190,7 +194,7 @@ def embedded_table_dataset(label: str, profile: str, cpu: ActorTraining) -> Tabl
         protocol = ProtocolConfig(repetitions=2, max_real=40, chunk=40)
     elif profile == "cpu":
         training = dataclasses.replace(cpu, model=dataclasses.replace(cpu.model, num_classes=spec.num_classes))
-        protocol = ProtocolConfig(repetitions=5, max_real=1000)
+        protocol = cpu_protocol
     else:
         training = ActorTraining(ActorConfig(num_classes=spec.num_classes),
                                  steps=spec.paper_epochs * (spec.clips // 20), losses=ActorLossWeights(joints=1.0),

@@ -25,7 +25,7 @@ from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import REPRESENTATIONS, axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.losses.actor import ActorLossWeights, actor_loss
-from jaxmotion.models.actor import ActorConfig, ActorParams, autoencode, init_actor
+from jaxmotion.models.actor import ActorConfig, AnyActorParams, autoencode, init_actor
 from jaxmotion.train.loop import LoopConfig, train
 
 
@@ -63,7 +63,7 @@ def actor_inputs(batch: dict[str, jax.Array], rep: str) -> tuple[jax.Array, jax.
 
 
 def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: str | None = None, *,
-                body: BodyModel | None = None, progress: bool = True) -> ActorParams:
+                body: BodyModel | None = None, progress: bool = True) -> AnyActorParams:
     """Fit ACTOR on ``data`` (resuming from ``workdir``'s checkpoints when present); returns the parameters."""
     if training.model.num_classes != data.num_classes or training.model.num_joints != data.skeleton.num_joints + 1:
         raise ValueError(f"ActorTraining.model: expects {training.model.num_classes} classes and "

@@ -1,0 +1,65 @@
+"""Training Action2Motion with the library loop (resume is exact) and its sampler for the protocol."""
+
+import shutil
+
+import jax
+import numpy as np
+import pytest
+
+from jaxmotion.data.motion import SKELETONS, Motion, pack
+from jaxmotion.models.a2m import A2MTrainConfig, A2MVAEConfig
+from jaxmotion.train.a2m import A2MTraining, a2m_sampler, train_a2m
+
+SMPL24 = SKELETONS["SMPL-24 (HumanAct12)"]
+CLASSES = 3
+
+
+def _data():
+    """A few random clips on the SMPL-24 skeleton, some shorter than the window: generating the embedded
+    datasets would take longer than the whole test."""
+    rng = np.random.default_rng(0)
+    motions = []
+    for i, frames in enumerate((9, 14, 6, 12, 10, 8)):
+        joints = rng.normal(size=(frames, 24, 3)).astype(np.float32)
+        motions.append(Motion(joints=joints, translation=joints[:, 0].copy(), rotations=None, action=i % CLASSES))
+    return pack(motions, name="toy", split="train", class_names=("a", "b", "c"), skeleton=SMPL24, fps=20)
+
+
+def _training(iterations):
+    # one GRU cell per net: compilation dominates the test's time
+    return A2MTraining(A2MVAEConfig(pose_dim=72, num_classes=CLASSES, kl_weight=1e-4, hidden=8, latent=4,
+                                    decoder_layers=1),
+                       A2MTrainConfig(batch_size=4, iterations=iterations, frames=10), log_every=2,
+                       checkpoint_every=2)
+
+
+def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_protocol_motions(tmp_path):
+    data = _data()
+    straight = train_a2m(data, _training(4), jax.random.key(0), str(tmp_path / "straight"), progress=False)
+    # an interruption after step 2: the same folder without the last checkpoint (one run fewer to compile)
+    shutil.copytree(tmp_path / "straight", tmp_path / "resumed")
+    shutil.rmtree(tmp_path / "resumed" / "checkpoints" / "4")
+    resumed = train_a2m(data, _training(4), jax.random.key(0), str(tmp_path / "resumed"), progress=False)
+    for a, b in zip(jax.tree.leaves(straight), jax.tree.leaves(resumed), strict=True):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+
+    sampler = a2m_sampler(resumed, _training(4), SMPL24)
+    motions = sampler(jax.random.key(1), np.array([0, 2, 1]), np.array([7, 5, 7]))
+    assert motions["joints"].shape == (3, 7, 24, 3) and motions["translation"].shape == (3, 7, 3)
+    assert np.isfinite(motions["joints"]).all()
+    np.testing.assert_array_equal(motions["lengths"], [7, 5, 7])
+    np.testing.assert_array_equal(motions["translation"], motions["joints"][:, :, 0])
+    # frames past a duration repeat the last one, as the protocol's real windows do
+    np.testing.assert_array_equal(motions["joints"][1, 5:], np.broadcast_to(motions["joints"][1, 4], (2, 24, 3)))
+    # each row is drawn from its own key: a row does not depend on the other rows (same shapes: no recompile)
+    other = sampler(jax.random.key(1), np.array([0, 1, 2]), np.array([7, 5, 7]))
+    np.testing.assert_allclose(other["joints"][0], motions["joints"][0], rtol=1e-5, atol=1e-6)
+    assert not np.allclose(other["joints"][2], motions["joints"][2])
+
+
+def test_mismatched_model_and_data_raise():
+    with pytest.raises(ValueError, match="pose_dim 72"):
+        train_a2m(_data(), A2MTraining(A2MVAEConfig(pose_dim=72, num_classes=5, kl_weight=0.0),
+                                       A2MTrainConfig(iterations=1)), jax.random.key(0))
+    with pytest.raises(ValueError, match="pose_dim 60"):
+        a2m_sampler(None, A2MTraining(A2MVAEConfig(pose_dim=60, num_classes=3, kl_weight=0.0)), SMPL24)
