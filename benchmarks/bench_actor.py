@@ -15,17 +15,13 @@ PyTorch reference figures were measured with the authors' code on this machine w
 What is timed (``float32``, CPU):
 
 * **Training step** (``train-paper``: d 256, 8 layers, 4 heads, FF 1024, dropout 0.1, GELU, 40 classes;
-  ``train-cpu``: d 128, 4 layers, 4 heads, FF 512): batch 20 x 60 frames of rot6d (25 x 6, the 24 SMPL
-  joints + the translation row), forward + backward + AdamW update, dropout on. ``train_actor`` builds its
-  step inside itself and does not expose it, so the step here is rebuilt with the same calls: a flax
-  ``TrainState`` with ``optax.adamw(lr, weight_decay)``, ``jax.value_and_grad`` of ``actor_loss`` over
-  ``autoencode(..., train=True)``, ``state.apply_gradients``, the dropout key ``fold_in(key, state.step)``
-  and ``jax.jit(..., donate_argnums=0)``, as ``jaxmotion.train.loop.train`` does. The only difference is the
-  input: synthetic ``x [20, 60, 25, 6]`` / ``actions [20]`` / ``mask [20, 60]`` arrays instead of
-  ``actor_inputs(batch)`` (the data pipeline is benchmarked in ``bench_data.py``). Losses: L_P + KL, or
-  L_P + L_J + KL with ``--with-joints`` (L_J: forward kinematics on the SMPL-24 skeleton). The PyTorch
-  reference trains with ``rc`` + ``rcxyz`` + KL, ``rcxyz`` on SMPL *vertices*, which jaxmotion computes
-  only with a user-supplied body model.
+  ``train-cpu``: d 128, 4 layers, 4 heads, FF 512): batch 20 x 60 frames (rotations to rot6d 25 x 6, the 24
+  SMPL joints + the translation row), forward + backward + AdamW update, dropout on: the library's own step
+  (``jaxmotion.train.actor.actor_step`` on ``actor_state``, as ``train_actor`` runs it), fed one synthetic
+  full-length pipeline batch, with the loop's ``fold_in(key, step)`` dropout key and the state donated.
+  Losses: L_P + KL, or L_P + L_J + KL with ``--with-joints`` (L_J: forward kinematics on the SMPL-24
+  skeleton). The PyTorch reference trains with ``rc`` + ``rcxyz`` + KL, ``rcxyz`` on SMPL *vertices*,
+  which jaxmotion computes only with a user-supplied body model.
 * **Generation** (paper configuration): 20 sequences of 60 frames, z ~ N(0, I), decoded, jitted
   (``jaxmotion.models.actor.generate``). ``--with-fk`` adds a row for the library's evaluation sampler
   (``actor_sampler``: generate, rot6d -> axis-angle, forward kinematics to joints, last-frame padding).
@@ -56,18 +52,15 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optax
-from flax.training.train_state import TrainState
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
 from benchmarks.timing import machine_header  # noqa: E402
-from jaxmotion.data.pipeline import to_actor_features  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24  # noqa: E402
-from jaxmotion.losses.actor import ActorLossWeights, actor_loss  # noqa: E402
-from jaxmotion.models.actor import ActorConfig, autoencode, generate, init_actor  # noqa: E402
+from jaxmotion.losses.actor import ActorLossWeights  # noqa: E402
+from jaxmotion.models.actor import ActorConfig, generate, init_actor  # noqa: E402
 from jaxmotion.pipelines.actor import actor_sampler  # noqa: E402
-from jaxmotion.train.actor import ActorTraining  # noqa: E402
+from jaxmotion.train.actor import ActorTraining, actor_state, actor_step  # noqa: E402
 
 # Measured with the authors' PyTorch code on this machine (2 threads), from the issue.
 TORCH_TRAIN_PAPER_MS = 1161.0
@@ -154,47 +147,37 @@ def time_compiled(call, repeats: int) -> tuple[float, float, float]:
     return statistics.median(times), min(times), max(times)
 
 
-def synthetic_inputs(key: jax.Array, batch: int, frames: int):
-    """ACTOR inputs of a full-length batch: realistic rot6d (small random axis-angle poses) and translation."""
+def synthetic_batch(key: jax.Array, batch: int, frames: int) -> dict[str, jax.Array]:
+    """A full-length pipeline batch: small random axis-angle poses, a drifting translation, random actions."""
     k_rot, k_trans, k_act = jax.random.split(key, 3)
-    rotations = 0.3 * jax.random.normal(k_rot, (batch, frames, SMPL24.num_joints, 3))
-    translation = jnp.cumsum(0.01 * jax.random.normal(k_trans, (batch, frames, 3)), axis=1)
-    x = to_actor_features(rotations, translation, REP)
-    actions = jax.random.randint(k_act, (batch,), 0, CLASSES)
-    mask = jnp.ones((batch, frames), bool)
-    return jax.block_until_ready((x, actions, mask))
+    return jax.block_until_ready({
+        "rotations": 0.3 * jax.random.normal(k_rot, (batch, frames, SMPL24.num_joints, 3)),
+        "translation": jnp.cumsum(0.01 * jax.random.normal(k_trans, (batch, frames, 3)), axis=1),
+        "actions": jax.random.randint(k_act, (batch,), 0, CLASSES),
+        "mask": jnp.ones((batch, frames), bool),
+    })
 
 
 def bench_train(config: ActorConfig, losses: ActorLossWeights, repeats: int) -> dict:
     training = ActorTraining(model=config, steps=1, rep=REP, losses=losses)
     k_init, k_data, k_loop = jax.random.split(jax.random.key(0), 3)
-    optimizer = optax.adamw(training.learning_rate, weight_decay=training.weight_decay)
-    state = TrainState.create(apply_fn=None, params=init_actor(k_init, config), tx=optimizer)
-    x, actions, mask = synthetic_inputs(k_data, BATCH, FRAMES)
-
-    # train_actor's step_fn, with the batch already in ACTOR's form (see the module docstring).
-    def step_fn(state, x, actions, mask, key):
-        def loss_fn(params):
-            out = autoencode(params, config, key, x, actions, mask, train=True)
-            return actor_loss(out["output"], x, mask, out["mu"], out["logvar"], rep=training.rep,
-                              weights=training.losses, skeleton=SMPL24, body=None)
-
-        (_, terms), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
-        return state.apply_gradients(grads=grads), terms
+    state = actor_state(training, k_init)
+    batch = synthetic_batch(k_data, BATCH, FRAMES)
+    step_fn = actor_step(training, SMPL24)  # the library's step, as train_actor builds it
 
     # jaxmotion.train.loop.train's wrapper: dropout randomness from fold_in(loop key, step), state donated.
-    def run_step(state, x, actions, mask, loop_key):
-        return step_fn(state, x, actions, mask, jax.random.fold_in(loop_key, state.step))
+    def run_step(state, batch, loop_key):
+        return step_fn(state, batch, jax.random.fold_in(loop_key, state.step))
 
     jitted = jax.jit(run_step, donate_argnums=0)
     tick = time.perf_counter()
-    compiled = jitted.lower(state, x, actions, mask, k_loop).compile()
+    compiled = jitted.lower(state, batch, k_loop).compile()
     compile_s = time.perf_counter() - tick
-    flops_xla = xla_flops(run_step, state, x, actions, mask, k_loop)
+    flops_xla = xla_flops(run_step, state, batch, k_loop)
 
     def call():
         nonlocal state
-        state, terms = compiled(state, x, actions, mask, k_loop)
+        state, terms = compiled(state, batch, k_loop)
         jax.block_until_ready((state, terms))
 
     median, low, high = time_compiled(call, repeats)
@@ -302,9 +285,8 @@ def main() -> None:
           + "; the PyTorch reference trains with rc + rcxyz + KL, rcxyz on SMPL vertices (L_V), so its step "
           "also runs the SMPL body layer on output and target"
           + ("." if args.with_joints else "; --with-joints adds L_J, our nearest substitute."))
-    print("* The training step is train_actor's step rebuilt with the same calls (train_actor does not expose "
-          "it), fed synthetic x / actions / mask instead of actor_inputs(batch); dropout on, key "
-          "fold_in(key, step), AdamW, state donated.")
+    print("* The training step is the library's (train.actor.actor_step, as train_actor runs it) on one synthetic "
+          "full-length batch; dropout on, key fold_in(key, step), AdamW, state donated.")
     print(f"* Analytic floors at {args.gflops:g} GFLOP/s, paper configuration: training step "
           f"{train_floor:.3f} s (issue: about {ISSUE_FLOOR_TRAIN_S} s), generation {generate_floor:.3f} s "
           f"(issue: about {ISSUE_FLOOR_GENERATE_S} s). Training = 3 x forward (encoder + decoder); "

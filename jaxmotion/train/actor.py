@@ -62,18 +62,16 @@ def actor_inputs(batch: dict[str, jax.Array], rep: str) -> tuple[jax.Array, jax.
     return to_actor_features(batch["rotations"], batch["translation"], rep), batch["actions"], batch["mask"]
 
 
-def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: str | None = None, *,
-                body: BodyModel | None = None, progress: bool = True) -> AnyActorParams:
-    """Fit ACTOR on ``data`` (resuming from ``workdir``'s checkpoints when present); returns the parameters."""
-    if training.model.num_classes != data.num_classes or training.model.num_joints != data.skeleton.num_joints + 1:
-        raise ValueError(f"ActorTraining.model: expects {training.model.num_classes} classes and "
-                         f"{training.model.num_joints - 1} joints, {data.name} has {data.num_classes} and "
-                         f"{data.skeleton.num_joints}")
-    k_init, k_data, k_train = jax.random.split(key, 3)
+def actor_state(training: ActorTraining, key: jax.Array) -> TrainState:
+    """Fresh parameters and AdamW state for ``training``."""
     optimizer = optax.adamw(training.learning_rate, weight_decay=training.weight_decay)
-    state = TrainState.create(apply_fn=None, params=init_actor(k_init, training.model), tx=optimizer)
-    spec = BatchSpec(batch_size=training.batch_size, window=training.window, min_length=training.min_length)
-    skeleton, config = data.skeleton, training.model
+    return TrainState.create(apply_fn=None, params=init_actor(key, training.model), tx=optimizer)
+
+
+def actor_step(training: ActorTraining, skeleton: Skeleton, body: BodyModel | None = None):
+    """The training step ``(state, batch, key) -> (state, loss terms)`` (the loop jits it): ACTOR's losses on
+    a pipeline batch, dropout from ``key``, one AdamW update."""
+    config = training.model
 
     def step_fn(state, batch, key):
         x, actions, mask = actor_inputs(batch, training.rep)
@@ -86,9 +84,21 @@ def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, wo
         (_, terms), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
         return state.apply_gradients(grads=grads), terms
 
+    return step_fn
+
+
+def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: str | None = None, *,
+                body: BodyModel | None = None, progress: bool = True) -> AnyActorParams:
+    """Fit ACTOR on ``data`` (resuming from ``workdir``'s checkpoints when present); returns the parameters."""
+    if training.model.num_classes != data.num_classes or training.model.num_joints != data.skeleton.num_joints + 1:
+        raise ValueError(f"ActorTraining.model: expects {training.model.num_classes} classes and "
+                         f"{training.model.num_joints - 1} joints, {data.name} has {data.num_classes} and "
+                         f"{data.skeleton.num_joints}")
+    k_init, k_data, k_train = jax.random.split(key, 3)
+    spec = BatchSpec(batch_size=training.batch_size, window=training.window, min_length=training.min_length)
     loop = LoopConfig(steps=training.steps, log_every=training.log_every, checkpoint_every=training.checkpoint_every)
-    state = train(state, step_fn, make_batch_fn(data, k_data, spec), key=k_train, config=loop, workdir=workdir,
-                  progress=progress)
+    state = train(actor_state(training, k_init), actor_step(training, data.skeleton, body),
+                  make_batch_fn(data, k_data, spec), key=k_train, config=loop, workdir=workdir, progress=progress)
     return state.params
 
 
