@@ -95,26 +95,14 @@ CPU_PROTOCOL = ProtocolConfig(repetitions=3, max_real=500)
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorArchitectureConfig:
+class ActorArchitectureConfig(experiment.ProfileConfig):
     uestc: TableDataset
     ntu13: TableDataset
 
     @classmethod
-    def _profile(cls, profile: str) -> ActorArchitectureConfig:
+    def for_profile(cls, profile: str) -> ActorArchitectureConfig:
         return cls(embedded_table_dataset("UESTC", profile, CPU, CPU_PROTOCOL),
                    embedded_table_dataset("NTU-13", profile, CPU, CPU_PROTOCOL))
-
-    @classmethod
-    def smoke(cls) -> ActorArchitectureConfig:
-        return cls._profile("smoke")
-
-    @classmethod
-    def cpu(cls) -> ActorArchitectureConfig:
-        return cls._profile("cpu")
-
-    @classmethod
-    def paper(cls) -> ActorArchitectureConfig:
-        return cls._profile("paper")
 
 
 def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:

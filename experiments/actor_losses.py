@@ -102,26 +102,14 @@ REPORTED = {
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorLossesConfig:
+class ActorLossesConfig(experiment.ProfileConfig):
     uestc: TableDataset
     ntu13: TableDataset
     body_model: str | None = None  # an SMPL-format model file (.npz / .pkl): runs the L_V rows
 
     @classmethod
-    def _profile(cls, profile: str) -> ActorLossesConfig:
+    def for_profile(cls, profile: str) -> ActorLossesConfig:
         return cls(embedded_table_dataset("UESTC", profile, CPU), embedded_table_dataset("NTU-13", profile, CPU))
-
-    @classmethod
-    def smoke(cls) -> ActorLossesConfig:
-        return cls._profile("smoke")
-
-    @classmethod
-    def cpu(cls) -> ActorLossesConfig:
-        return cls._profile("cpu")
-
-    @classmethod
-    def paper(cls) -> ActorLossesConfig:
-        return cls._profile("paper")
 
 
 def row_name(label: str, has_body: bool) -> str:

@@ -92,28 +92,16 @@ def a2m_training(label: str, profile: str) -> A2MTraining:
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorSotaConfig:
+class ActorSotaConfig(experiment.ProfileConfig):
     ntu13: TableDataset
     humanact12: TableDataset
     a2m_ntu13: A2MTraining
     a2m_humanact12: A2MTraining
 
     @classmethod
-    def _profile(cls, profile: str) -> ActorSotaConfig:
+    def for_profile(cls, profile: str) -> ActorSotaConfig:
         return cls(embedded_table_dataset("NTU-13", profile, CPU), embedded_table_dataset("HumanAct12", profile, CPU),
                    a2m_training("NTU-13", profile), a2m_training("HumanAct12", profile))
-
-    @classmethod
-    def smoke(cls) -> ActorSotaConfig:
-        return cls._profile("smoke")
-
-    @classmethod
-    def cpu(cls) -> ActorSotaConfig:
-        return cls._profile("cpu")
-
-    @classmethod
-    def paper(cls) -> ActorSotaConfig:
-        return cls._profile("paper")
 
 
 def run(config: ActorSotaConfig, ctx: experiment.RunContext):

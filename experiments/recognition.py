@@ -34,7 +34,7 @@ from jaxmotion.evaluation.recognizers import (
 
 
 @dataclasses.dataclass(frozen=True)
-class RecognitionConfig:
+class RecognitionConfig(experiment.ProfileConfig):
     evaluators: tuple[RecognizerTraining, ...]
     only: tuple[str, ...] = ()
 
@@ -45,20 +45,8 @@ class RecognitionConfig:
             raise ValueError(f"only: unknown evaluators {unknown}; this config has {names}")
 
     @classmethod
-    def _profile(cls, profile: str) -> RecognitionConfig:
+    def for_profile(cls, profile: str) -> RecognitionConfig:
         return cls(evaluators=tuple(evaluator_spec(name, profile) for name in EVALUATORS))
-
-    @classmethod
-    def smoke(cls) -> RecognitionConfig:
-        return cls._profile("smoke")
-
-    @classmethod
-    def cpu(cls) -> RecognitionConfig:
-        return cls._profile("cpu")
-
-    @classmethod
-    def paper(cls) -> RecognitionConfig:
-        return cls._profile("paper")
 
 
 def run(config: RecognitionConfig, ctx: experiment.RunContext):

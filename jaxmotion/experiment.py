@@ -69,6 +69,27 @@ class RunContext:
         }
 
 
+class ProfileConfig:
+    """Base of an experiment config built by one function of the profile name: a subclass defines
+    ``for_profile(profile)`` and gets the ``smoke()``, ``cpu()`` and ``paper()`` constructors from it."""
+
+    @classmethod
+    def for_profile(cls, profile: str):
+        raise NotImplementedError(f"{cls.__qualname__} must define for_profile(profile)")
+
+    @classmethod
+    def smoke(cls):
+        return cls.for_profile("smoke")
+
+    @classmethod
+    def cpu(cls):
+        return cls.for_profile("cpu")
+
+    @classmethod
+    def paper(cls):
+        return cls.for_profile("paper")
+
+
 RunFn = Callable[[Any, RunContext], Rows]
 
 
