@@ -19,9 +19,23 @@ settings.load_profile("jaxmotion")
 
 import functools  # noqa: E402
 import pathlib  # noqa: E402
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
 
 import jax  # noqa: E402
 import pytest  # noqa: E402
+
+# The experiment smokes build the same tiny models and evaluators again and again (each in its own jitted
+# closures, which jax's in-memory cache does not match up); a compilation cache kept for this test session
+# compiles each distinct computation once. Per session, so no test ever runs on a stale executable.
+_XLA_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-xla-")
+jax.config.update("jax_compilation_cache_dir", _XLA_CACHE)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+
+
+def pytest_sessionfinish(session, exitstatus):
+    shutil.rmtree(_XLA_CACHE, ignore_errors=True)
 
 
 @pytest.fixture(scope="session")

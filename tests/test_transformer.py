@@ -12,6 +12,7 @@ from jaxmotion.nn.transformer import (
     AttentionParams,
     decoder_layer,
     decoder_stack,
+    dropout_bits,
     encoder_layer,
     encoder_stack,
     init_decoder_layer,
@@ -162,6 +163,28 @@ def test_cross_attention_with_other_length_matches_reference(attn):
     np.testing.assert_allclose(out, ref_attention(_np(attn), q, kv, H, mask), atol=1e-5)
 
 
+@pytest.mark.parametrize("masked", [False, True])
+def test_single_key_attention_matches_reference(attn, masked):
+    q, kv = _inputs(23, 2, 5, D), _inputs(24, 2, 1, D)
+    mask = np.array([[True], [False]]) if masked else None
+    out = multi_head_attention(attn, q, kv, num_heads=H, key_padding_mask=mask)
+    np.testing.assert_allclose(out, ref_attention(_np(attn), q, kv, H, mask), atol=1e-5)
+
+
+def test_single_key_attention_dropout_keeps_or_drops_whole_heads(attn):
+    q, kv, rate = _inputs(25, 3, 40, D), _inputs(26, 3, 1, D), 0.25
+    out = multi_head_attention(attn, q, kv, num_heads=H, dropout_rate=rate, dropout_key=jax.random.key(5))
+    a = _np(attn)
+    # undo out_proj: the per-head context of each query is either the value or zero
+    context = np.linalg.solve(a.out_proj.weight, (np.asarray(out, np.float64) - a.out_proj.bias)[..., None])[..., 0]
+    value = np.asarray(kv, np.float64)[:, 0] @ a.in_proj_weight[2 * D:].T + a.in_proj_bias[2 * D:]  # [B, D]
+    context, value = context.reshape(3, 40, H, D // H), value.reshape(3, 1, H, D // H) / (1 - rate)
+    kept = np.abs(context - value).max(-1) < 1e-3
+    dropped = np.abs(context).max(-1) < 1e-3
+    assert np.all(kept ^ dropped)
+    assert 0.1 < dropped.mean() < 0.4  # 480 head-queries at rate 0.25
+
+
 def test_padded_keys_have_no_influence(attn):
     q, kv = _inputs(3, 3, 4, D), _inputs(4, 3, 6, D)
     changed = jnp.where(MASK_3x6[..., None], kv, 100.0 * _inputs(5, 3, 6, D))
@@ -259,6 +282,21 @@ def test_dropout_only_with_a_key_and_reproducible(enc):
     np.testing.assert_array_equal(a, run(jax.random.key(0)))
     zero_rate = encoder_layer(enc, x, num_heads=H, dropout_rate=0.0, dropout_key=jax.random.key(0))
     np.testing.assert_array_equal(zero_rate, eval_out)
+
+
+def test_dropout_bits_behave_like_independent_fair_coins():
+    n = 1 << 16
+    bits = np.asarray(dropout_bits(jax.random.key(3), (4, n // 4))).ravel()
+    other = np.asarray(dropout_bits(jax.random.key(4), (4, n // 4))).ravel()
+    per_bit = ((bits[:, None] >> np.arange(32, dtype=np.uint32)) & 1).mean(0)
+    tolerance = 5 * 0.5 / np.sqrt(n)  # five standard errors of a fair coin's frequency
+    assert np.all(np.abs(per_bit - 0.5) < tolerance), per_bit
+    keep = bits >= np.uint32(round(0.1 * 2**32))
+    assert abs(keep.mean() - 0.9) < 5 * np.sqrt(0.09 / n)
+    # neighbours (the hash's input counter differs by one) and another key: no more agreement than chance
+    for a, b in ((keep[1:], keep[:-1]), (keep, other >= np.uint32(round(0.1 * 2**32)))):
+        assert abs((a == b).mean() - 0.82) < 5 * np.sqrt(0.82 * 0.18 / n)
+    np.testing.assert_array_equal(bits, np.asarray(dropout_bits(jax.random.key(3), (4, n // 4))).ravel())
 
 
 # ------------------------------------------------------------------------------------------------- stacks

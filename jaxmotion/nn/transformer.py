@@ -291,13 +291,33 @@ def layer_norm(p: LayerNormParams, x: jax.Array, eps: float = 1e-5) -> jax.Array
     return (x - mean) * jax.lax.rsqrt(var + eps) * p.weight + p.bias
 
 
+def dropout_bits(key: jax.Array, shape: tuple[int, ...]) -> jax.Array:
+    """Uniform ``uint32`` bits of ``shape`` for dropout masks: one 32-bit seed drawn from ``key``, then an
+    integer hash of each element's index (Wellons' two-multiply "lowbias32" finaliser).
+
+    Why not ``jax.random.bits``: threefry costs ~30 integer rounds per element, more than all the matrix
+    products of an ACTOR training step on a CPU (XLA's RngBitGenerator is no cheaper there); the hash is ~20x
+    cheaper and its bits pass as independent fair coins for masking (``tests/test_transformer.py``). Same key,
+    same mask; different keys give unrelated masks.
+    """
+    size = math.prod(shape)
+    if size >= 2**32:
+        raise ValueError(f"dropout_bits: shape {shape} has more than 2**32 elements")
+    seed = jax.random.bits(key, (), jnp.uint32)
+    h = jax.lax.iota(jnp.uint32, size).reshape(shape) * jnp.uint32(0x9E3779B9) + seed
+    h = (h ^ (h >> 16)) * jnp.uint32(0x7FEB352D)
+    h = (h ^ (h >> 15)) * jnp.uint32(0x846CA68B)
+    return h ^ (h >> 16)
+
+
 def dropout(x: jax.Array, rate: float, key: jax.Array | None) -> jax.Array:
-    """Inverted dropout (kept values scaled by ``1 / (1 − rate)``); the identity when ``key`` is None."""
+    """Inverted dropout (kept values scaled by ``1 / (1 − rate)``); the identity when ``key`` is None.
+    A value is dropped when its :func:`dropout_bits` fall below ``rate · 2³²``."""
     if key is None or rate == 0.0:
         return x
     if not 0.0 <= rate < 1.0:
         raise ValueError(f"dropout_rate: expected in [0, 1), got {rate}")
-    keep = jax.random.bernoulli(key, 1.0 - rate, x.shape)
+    keep = dropout_bits(key, x.shape) >= jnp.uint32(round(rate * 2**32))
     return jnp.where(keep, x / (1.0 - rate), jnp.zeros_like(x))
 
 
@@ -355,6 +375,17 @@ def multi_head_attention(
 
     def heads(x, w, b):  # [B, T, D] -> [B, T, H, D/H]
         return (x @ w.T + b).reshape(*x.shape[:2], num_heads, head_dim)
+
+    if len_k == 1:
+        # One key (ACTOR's decoder reads a single memory token): its softmax weight is exactly 1 (0 when
+        # padded), whatever the query, so the query and key projections are skipped and out_proj is applied
+        # once per head and sequence: ~15% of a decoder layer's products. Same dropout mask as below.
+        allowed = jnp.ones((batch, 1), bool) if key_padding_mask is None else key_padding_mask.astype(bool)
+        weights = jnp.broadcast_to(allowed[:, None, :], (batch, num_heads, len_q)).astype(query.dtype)
+        weights = dropout(weights[..., None], dropout_rate, dropout_key)[..., 0]  # [B, H, Tq]
+        v = heads(key_value, w_v, b_v)[:, 0]  # [B, H, D/H]
+        per_head = jnp.einsum("bhe,dhe->bhd", v, p.out_proj.weight.reshape(dim, num_heads, head_dim))
+        return jnp.einsum("bhq,bhd->bqd", weights, per_head) + p.out_proj.bias
 
     q = heads(query, w_q, b_q) * (1.0 / math.sqrt(head_dim))
     k = heads(key_value, w_k, b_k)
