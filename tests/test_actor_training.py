@@ -1,7 +1,5 @@
 """Training ACTOR with the minimal loop, and its sampler for the evaluation protocol."""
 
-import dataclasses
-
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -10,7 +8,7 @@ import pytest
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.models.actor import ActorConfig
 from jaxmotion.pipelines.actor import actor_sampler
-from jaxmotion.train.actor import ActorTraining, actor_state, train_actor
+from jaxmotion.train.actor import ActorTraining, train_actor
 
 TINY = ActorTraining(ActorConfig(num_classes=12, latent=16, ff=32, layers=1, heads=2), steps=4, batch_size=8,
                      window=20, log_every=2, checkpoint_every=2)
@@ -38,22 +36,3 @@ def test_training_config_rejects_a_representation_the_model_cannot_hold():
     with pytest.raises(ValueError, match="rep 'quaternion' has 4 channels"):
         ActorTraining(ActorConfig(num_classes=12), steps=1, rep="quaternion")
 
-
-def test_cosine_schedule_starts_at_the_learning_rate_and_ends_at_zero():
-    grads = None
-    sizes = {}
-    for schedule in ("constant", "cosine"):
-        state = actor_state(dataclasses.replace(TINY, steps=2, schedule=schedule), jax.random.key(0))
-        grads = grads or jax.tree.map(jnp.ones_like, state.params)
-        moves = []
-        for _ in range(3):
-            new = state.apply_gradients(grads=grads)
-            moves.append(max(float(jnp.abs(a - b).max()) for a, b in
-                             zip(jax.tree.leaves(new.params), jax.tree.leaves(state.params), strict=True)))
-            state = new
-        sizes[schedule] = moves
-    assert sizes["cosine"][0] == pytest.approx(sizes["constant"][0], rel=1e-6)
-    assert 0.0 < sizes["cosine"][1] < sizes["constant"][1]
-    assert sizes["cosine"][2] == 0.0 < sizes["constant"][2]  # step 2 = steps: learning rate 0
-    with pytest.raises(ValueError, match="schedule"):
-        dataclasses.replace(TINY, schedule="linear")

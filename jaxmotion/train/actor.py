@@ -42,9 +42,6 @@ class ActorTraining:
     window: int = 60
     min_length: int | None = None
     learning_rate: float = 1e-4
-    # "constant" (the paper) or "cosine": decays to 0 at ``steps``, for short budgets that end training
-    # rather than pause it (the cpu profiles)
-    schedule: str = "constant"
     weight_decay: float = 0.01
     log_every: int = 100
     checkpoint_every: int = 1000
@@ -52,8 +49,6 @@ class ActorTraining:
     def __post_init__(self):
         if self.rep not in REPRESENTATIONS:
             raise ValueError(f"ActorTraining.rep: expected one of {sorted(REPRESENTATIONS)}, got {self.rep!r}")
-        if self.schedule not in ("constant", "cosine"):
-            raise ValueError(f"ActorTraining.schedule: expected 'constant' or 'cosine', got {self.schedule!r}")
         channels = int(np.prod(REPRESENTATIONS[self.rep]))
         if self.model.channels != channels:
             raise ValueError(f"ActorTraining: rep {self.rep!r} has {channels} channels per joint but "
@@ -69,10 +64,7 @@ def actor_inputs(batch: dict[str, jax.Array], rep: str) -> tuple[jax.Array, jax.
 
 def actor_state(training: ActorTraining, key: jax.Array) -> TrainState:
     """Fresh parameters and AdamW state for ``training``."""
-    rate = training.learning_rate
-    if training.schedule == "cosine":
-        rate = optax.cosine_decay_schedule(training.learning_rate, training.steps)
-    optimizer = optax.adamw(rate, weight_decay=training.weight_decay)
+    optimizer = optax.adamw(training.learning_rate, weight_decay=training.weight_decay)
     return TrainState.create(apply_fn=None, params=init_actor(key, training.model), tx=optimizer)
 
 
