@@ -23,7 +23,7 @@ noise (``noise_sigma``, :func:`jaxmotion.pipelines.actor.noisy`) added: denoisin
 What differs from the paper, and why:
 
 * ACTOR is the headline setup (:class:`experiments.actor_uestc.ActorUestcConfig`); the cpu profile
-  trains it 2 000 steps instead of 6 000 to fit its budget.
+  trains it 2 000 steps instead of 10 000 to fit its budget.
 * The recogniser is the UESTC evaluator's recipe (``evaluator_spec("synth-uestc/stgcn", profile)``) with
   its training set replaced; the cpu profile trains 400 steps instead of 800.
 * The ACTOR-made sets hold one ``training.window``-frame (60) canonical window per real clip (denoised,
