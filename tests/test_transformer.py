@@ -313,6 +313,20 @@ def test_encoder_stack_equals_layers_one_by_one():
     np.testing.assert_allclose(stack, h, atol=1e-5)
 
 
+@pytest.mark.parametrize("num_layers", [1, 3])
+@pytest.mark.parametrize("norm_first", [False, True])
+def test_encoder_stack_with_num_queries_gives_the_first_outputs_of_the_full_stack(num_layers, norm_first):
+    stack = stack_layers([_random_params(init_encoder_layer, 30 + i, D, F) for i in range(num_layers)])
+    x = _inputs(31, 3, 6, D)
+    kwargs = {"num_heads": H, "key_padding_mask": MASK_3x6, "norm_first": norm_first}
+    full = encoder_stack(stack, x, **kwargs)
+    first = encoder_stack(stack, x, num_queries=2, **kwargs)
+    assert first.shape == (3, 2, D)
+    np.testing.assert_allclose(first, full[:, :2], atol=1e-5)
+    with pytest.raises(ValueError, match="num_queries"):
+        encoder_stack(stack, x, num_queries=2, causal=True, num_heads=H)
+
+
 def test_decoder_stack_equals_layers_one_by_one():
     layers = [_random_params(init_decoder_layer, 20 + i, D, F) for i in range(2)]
     tgt, memory = _inputs(21, 2, 5, D), _inputs(22, 2, 1, D)

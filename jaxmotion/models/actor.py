@@ -367,9 +367,10 @@ def _encode_transformer(p: ActorEncoderParams, config: ActorConfig, x: jax.Array
         h = jnp.concatenate([p.mu_query[actions][:, None], p.sigma_query[actions][:, None], h], axis=1)
         mask = jnp.concatenate([jnp.ones((batch, 2), bool), mask], axis=1)
     h = dropout(h + sinusoidal_encoding(jnp.arange(h.shape[1]), config.latent), config.dropout, k_pe)
-    out = encoder_stack(p.layers, h, key_padding_mask=mask, **_stack_kwargs(config, k_layers))
-    if config.distribution_tokens:
+    if config.distribution_tokens:  # only the µ and Σ tokens' outputs are read: the last layer computes those
+        out = encoder_stack(p.layers, h, key_padding_mask=mask, num_queries=2, **_stack_kwargs(config, k_layers))
         return out[:, 0], out[:, 1]
+    out = encoder_stack(p.layers, h, key_padding_mask=mask, **_stack_kwargs(config, k_layers))
     # ACTOR's "average_encoder" ablation averages every output, padded frames included.
     pooled = out.mean(axis=1)
     return linear(p.mu_layer, pooled), linear(p.sigma_layer, pooled)

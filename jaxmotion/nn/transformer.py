@@ -48,6 +48,7 @@ Choices:
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -431,11 +432,13 @@ def feed_forward(
     return linear(linear2, dropout(act, dropout_rate, dropout_key))
 
 
-def _residual(x, norm, sublayer, *, norm_first, eps, dropout_rate, dropout_key):
-    """One residual block: post-norm ``LN(x + drop(f(x)))`` or pre-norm ``x + drop(f(LN(x)))``."""
+def _residual(x, norm, sublayer, *, norm_first, eps, dropout_rate, dropout_key, num_queries=None):
+    """One residual block: post-norm ``LN(x + drop(f(x)))`` or pre-norm ``x + drop(f(LN(x)))``; with
+    ``num_queries``, ``f`` returns the first ``num_queries`` positions only and so does the block."""
+    kept = x if num_queries is None else x[:, :num_queries]
     if norm_first:
-        return x + dropout(sublayer(layer_norm(norm, x, eps)), dropout_rate, dropout_key)
-    return layer_norm(norm, x + dropout(sublayer(x), dropout_rate, dropout_key), eps)
+        return kept + dropout(sublayer(layer_norm(norm, x, eps)), dropout_rate, dropout_key)
+    return layer_norm(norm, kept + dropout(sublayer(x), dropout_rate, dropout_key), eps)
 
 
 def encoder_layer(
@@ -450,27 +453,34 @@ def encoder_layer(
     layer_norm_eps: float = 1e-5,
     dropout_rate: float = 0.0,
     dropout_key: jax.Array | None = None,
+    num_queries: int | None = None,
 ) -> jax.Array:
     """One encoder layer, ``x [B, T, D]`` -> ``[B, T, D]``: self-attention, then FF, each a residual block
     (post-norm like torch 1.7 by default, pre-norm with ``norm_first``).
 
     ``key_padding_mask [B, T]``: True = real token. Padded positions still get outputs (computed from the
-    real tokens); the caller ignores them.
+    real tokens); the caller ignores them. ``num_queries``: compute only the first ``num_queries`` outputs,
+    ``[B, num_queries, D]``, still attending over all of ``x`` (for a last layer whose other outputs are
+    never read).
     """
     _check_sequence("x", x)
+    if num_queries is not None and (causal or not 1 <= num_queries <= x.shape[1]):
+        raise ValueError(f"num_queries: expected 1..T = {x.shape[1]} without causal, got {num_queries} "
+                         f"(causal={causal})")
     k_att, k_drop1, k_ff, k_drop2 = _split_key(dropout_key, 4)
     block = {"norm_first": norm_first, "eps": layer_norm_eps, "dropout_rate": dropout_rate}
 
     def self_attention(h):
+        queries = h if num_queries is None else h[:, :num_queries]
         return multi_head_attention(
-            p.self_attn, h, h, num_heads=num_heads, key_padding_mask=key_padding_mask, causal=causal,
+            p.self_attn, queries, h, num_heads=num_heads, key_padding_mask=key_padding_mask, causal=causal,
             dropout_rate=dropout_rate, dropout_key=k_att,
         )
 
     def ff(h):
         return feed_forward(p.linear1, p.linear2, h, activation=activation, dropout_rate=dropout_rate, dropout_key=k_ff)
 
-    x = _residual(x, p.norm1, self_attention, dropout_key=k_drop1, **block)
+    x = _residual(x, p.norm1, self_attention, dropout_key=k_drop1, num_queries=num_queries, **block)
     return _residual(x, p.norm2, ff, dropout_key=k_drop2, **block)
 
 
@@ -530,7 +540,9 @@ def _num_layers(stacked: NamedTuple) -> int:
     return leaves[0].shape[0]
 
 
-def _scan_layers(layer_fn, p, x, dropout_key):
+def _scan_layers(layer_fn, p, x, dropout_key, last_layer_fn=None):
+    """``layer_fn`` over the stacked layers with ``lax.scan``; ``last_layer_fn``, when given, runs the last
+    one instead (same parameters and key)."""
     num_layers = _num_layers(p)
     keys = None if dropout_key is None else jax.random.split(dropout_key, num_layers)
 
@@ -538,7 +550,10 @@ def _scan_layers(layer_fn, p, x, dropout_key):
         layer_params, key = layer
         return layer_fn(layer_params, h, key), None
 
-    return jax.lax.scan(step, x, (p, keys))[0]
+    if last_layer_fn is None:
+        return jax.lax.scan(step, x, (p, keys))[0]
+    h = jax.lax.scan(step, x, jax.tree.map(lambda a: a[:-1], (p, keys)))[0]
+    return last_layer_fn(jax.tree.map(lambda a: a[-1], p), h, None if keys is None else keys[-1])
 
 
 def encoder_stack(
@@ -553,18 +568,22 @@ def encoder_stack(
     layer_norm_eps: float = 1e-5,
     dropout_rate: float = 0.0,
     dropout_key: jax.Array | None = None,
+    num_queries: int | None = None,
 ) -> jax.Array:
     """``L`` encoder layers (parameters stacked on a leading axis ``L``) run with ``lax.scan``:
     ``x [B, T, D]`` -> ``[B, T, D]``, no final norm (torch ``nn.TransformerEncoder(norm=None)``). Layer ``i``
-    gets ``jax.random.split(dropout_key, L)[i]``; other arguments as :func:`encoder_layer`."""
+    gets ``jax.random.split(dropout_key, L)[i]``. ``num_queries``: the last layer computes only the first
+    ``num_queries`` outputs (``[B, num_queries, D]``); other arguments as :func:`encoder_layer`."""
 
-    def layer(lp, h, key):
+    def layer(lp, h, key, queries=None):
         return encoder_layer(
             lp, h, num_heads=num_heads, key_padding_mask=key_padding_mask, causal=causal, activation=activation,
             norm_first=norm_first, layer_norm_eps=layer_norm_eps, dropout_rate=dropout_rate, dropout_key=key,
+            num_queries=queries,
         )
 
-    return _scan_layers(layer, p, x, dropout_key)
+    last = None if num_queries is None else functools.partial(layer, queries=num_queries)
+    return _scan_layers(layer, p, x, dropout_key, last)
 
 
 def decoder_stack(
