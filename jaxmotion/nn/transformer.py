@@ -540,9 +540,9 @@ def _num_layers(stacked: NamedTuple) -> int:
     return leaves[0].shape[0]
 
 
-def _scan_layers(layer_fn, p, x, dropout_key, last_layer_fn=None):
-    """``layer_fn`` over the stacked layers with ``lax.scan``; ``last_layer_fn``, when given, runs the last
-    one instead (same parameters and key)."""
+def _scan_layers(layer_fn, p, x, dropout_key, last_layer_fn=None, unroll=False):
+    """``layer_fn`` over the stacked layers with ``lax.scan`` (traced unrolled with ``unroll``);
+    ``last_layer_fn``, when given, runs the last one instead (same parameters and key)."""
     num_layers = _num_layers(p)
     keys = None if dropout_key is None else jax.random.split(dropout_key, num_layers)
 
@@ -551,8 +551,8 @@ def _scan_layers(layer_fn, p, x, dropout_key, last_layer_fn=None):
         return layer_fn(layer_params, h, key), None
 
     if last_layer_fn is None:
-        return jax.lax.scan(step, x, (p, keys))[0]
-    h = jax.lax.scan(step, x, jax.tree.map(lambda a: a[:-1], (p, keys)))[0]
+        return jax.lax.scan(step, x, (p, keys), unroll=unroll)[0]
+    h = jax.lax.scan(step, x, jax.tree.map(lambda a: a[:-1], (p, keys)), unroll=unroll)[0]
     return last_layer_fn(jax.tree.map(lambda a: a[-1], p), h, None if keys is None else keys[-1])
 
 
@@ -569,11 +569,13 @@ def encoder_stack(
     dropout_rate: float = 0.0,
     dropout_key: jax.Array | None = None,
     num_queries: int | None = None,
+    unroll: bool = False,
 ) -> jax.Array:
     """``L`` encoder layers (parameters stacked on a leading axis ``L``) run with ``lax.scan``:
     ``x [B, T, D]`` -> ``[B, T, D]``, no final norm (torch ``nn.TransformerEncoder(norm=None)``). Layer ``i``
     gets ``jax.random.split(dropout_key, L)[i]``. ``num_queries``: the last layer computes only the first
-    ``num_queries`` outputs (``[B, num_queries, D]``); other arguments as :func:`encoder_layer`."""
+    ``num_queries`` outputs (``[B, num_queries, D]``). ``unroll``: trace the layer loop unrolled (same
+    result; compiles slower, and on CPU differentiates faster); other arguments as :func:`encoder_layer`."""
 
     def layer(lp, h, key, queries=None):
         return encoder_layer(
@@ -583,7 +585,7 @@ def encoder_stack(
         )
 
     last = None if num_queries is None else functools.partial(layer, queries=num_queries)
-    return _scan_layers(layer, p, x, dropout_key, last)
+    return _scan_layers(layer, p, x, dropout_key, last, unroll)
 
 
 def decoder_stack(
@@ -600,10 +602,12 @@ def decoder_stack(
     layer_norm_eps: float = 1e-5,
     dropout_rate: float = 0.0,
     dropout_key: jax.Array | None = None,
+    unroll: bool = False,
 ) -> jax.Array:
     """``L`` decoder layers (parameters stacked on a leading axis ``L``) run with ``lax.scan``, every layer
     attending to the same ``memory [B, S, D]``: ``tgt [B, T, D]`` -> ``[B, T, D]``, no final norm. Layer ``i``
-    gets ``jax.random.split(dropout_key, L)[i]``; other arguments as :func:`decoder_layer`."""
+    gets ``jax.random.split(dropout_key, L)[i]``; ``unroll`` as :func:`encoder_stack`; other arguments as
+    :func:`decoder_layer`."""
 
     def layer(lp, h, key):
         return decoder_layer(
@@ -612,4 +616,4 @@ def decoder_stack(
             norm_first=norm_first, layer_norm_eps=layer_norm_eps, dropout_rate=dropout_rate, dropout_key=key,
         )
 
-    return _scan_layers(layer, p, tgt, dropout_key)
+    return _scan_layers(layer, p, tgt, dropout_key, unroll=unroll)
