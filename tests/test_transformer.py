@@ -331,14 +331,13 @@ def test_unrolled_stacks_equal_scanned_ones():
     enc = stack_layers([_random_params(init_encoder_layer, 40 + i, D, F) for i in range(2)])
     dec = stack_layers([_random_params(init_decoder_layer, 42 + i, D, F) for i in range(2)])
     x, memory, key = _inputs(43, 3, 6, D), _inputs(44, 3, 1, D), jax.random.key(9)
-    for unroll in (False, True):
+    def run(unroll):
         kwargs = {"num_heads": H, "dropout_rate": 0.2, "dropout_key": key, "unroll": unroll}
-        out = (encoder_stack(enc, x, key_padding_mask=MASK_3x6, **kwargs),
-               decoder_stack(dec, x, memory, tgt_key_padding_mask=MASK_3x6, **kwargs))
-        if unroll:
-            for a, b in zip(out, scanned, strict=True):
-                np.testing.assert_allclose(a, b, atol=1e-5)
-        scanned = out
+        return (encoder_stack(enc, x, key_padding_mask=MASK_3x6, **kwargs),
+                decoder_stack(dec, x, memory, tgt_key_padding_mask=MASK_3x6, **kwargs))
+
+    for a, b in zip(run(True), run(False), strict=True):
+        np.testing.assert_allclose(a, b, atol=1e-5)
 
 
 def test_decoder_stack_equals_layers_one_by_one():
