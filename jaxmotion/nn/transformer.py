@@ -35,9 +35,13 @@ Choices:
 * **Fully masked query rows** (every key padded; torch returns NaN) get all-zero attention weights, so the
   attention output there is ``out_proj.bias``: finite, and it receives no gradient from other tokens.
 * **Dropout** happens only when a ``dropout_key`` is given (no key = eval mode), in the places torch puts it:
-  on the attention weights, after each sublayer before the residual add, and after the FF activation.
+  on the attention weights, after each sublayer before the residual add, and after the FF activation. Masks
+  come from :func:`dropout_bits` (a hash of the element index, seeded from the key), not threefry.
+* **One key** (a single memory token): attention skips the query/key projections, whose softmax weight is 1.
 * **Stacks** take parameters stacked on a leading layer axis ``L`` (:func:`stack_layers`) and run the layers
-  with ``lax.scan``, so compile time does not grow with depth; the dropout key is split into one per layer.
+  with ``lax.scan``, so compile time does not grow with depth (``unroll=True`` traces them unrolled); the
+  dropout key is split into one per layer. An encoder stack's ``num_queries`` limits its last layer to the
+  outputs the caller reads.
 * **Initialisation** is PyTorch's default: ``Linear`` weights and biases U(±1/√fan_in); ``MultiheadAttention``
   ``in_proj_weight`` xavier-uniform over ``[3D, D]``, zero ``in_proj_bias`` and ``out_proj.bias``,
   ``out_proj.weight`` as a ``Linear``; LayerNorm ones / zeros. torch's ``nn.TransformerEncoder`` /
