@@ -13,8 +13,8 @@ Acc. 91.1±0.3, Div. 31.96±0.36, Multimod. 14.66±0.03; Real: 2.93±0.26, 2.79�
 33.34±0.32, 14.16±0.06. Numbers on the embedded data are not comparable in absolute terms (another
 dataset and another recogniser); the Real row computed here is the reference to compare with.
 
-cpu profile (2 CPU cores, 21 minutes, evaluator cached; seed 0): ACTOR FID_tr 10.72±0.35, FID_test
-11.16±0.46, Acc. 75.02±0.57, Div. 13.39±0.29, Multimod. 3.91±0.17; Real 0.80, 0.97, 99.38, 13.53, 2.47.
+cpu profile (2 CPU cores, 14 minutes, evaluator cached; seed 0): ACTOR FID_tr 9.76±0.56, FID_test
+10.18±0.83, Acc. 77.32±1.47, Div. 13.41±0.12, Multimod. 3.88±0.12; Real 0.80, 0.97, 99.38, 13.53, 2.47.
 
 Outputs in ``results/actor_uestc/<profile>/seed-<n>/``: the table (rows ACTOR and Real, plus the paper's
 numbers as "reported" rows), ``generated.gif`` (3 generated motions for each of the first actions) and
@@ -70,8 +70,8 @@ class ActorUestcConfig:
 
     @classmethod
     def cpu(cls) -> ActorUestcConfig:
-        # Sized for ~20 minutes on 2 CPU cores, where learning speed is what limits quality (the paper trains
-        # 530 000 steps): d 128, 2 + 2 layers, FF 256, no dropout (~90 ms a step), AdamW 1e-3, 10 000 steps.
+        # Sized for ~15 minutes on 2 CPU cores, where learning speed is what limits quality (the paper trains
+        # 530 000 steps): d 128, 2 + 2 layers, FF 256, no dropout (~70 ms a step), AdamW 1e-3, 10 000 steps.
         # Tuning here (generation accuracy, 600 windows): 1e-3 beat 5e-4 and 2e-3; 3e-3 collapsed the
         # posterior; λ_KL 3e-6 reconstructed better but generated worse than 1e-5; a cosine decay learned
         # slower. L_J stands in for L_V, which needs an SMPL model.
