@@ -173,11 +173,11 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
         plt.close(fig)
         return
     length = min(max((m.num_frames for _, m in cells if m is not None), default=1), max_frames)
+    grounded = [(ax, _on_floor(motion.joints)) for ax, motion in cells if motion is not None]  # once per clip
 
     def update(frame):
-        for ax, motion in cells:
-            if motion is not None:
-                _draw_3d(ax, _on_floor(motion.joints)[min(frame, motion.num_frames - 1)], skeleton)
+        for ax, joints in grounded:
+            _draw_3d(ax, joints[min(frame, len(joints) - 1)], skeleton)
         return []
 
     FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps))
