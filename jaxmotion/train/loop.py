@@ -9,8 +9,25 @@ Contract, so that a resumed run is bitwise identical to an uninterrupted one:
 * ``batch_fn(step) -> batch`` is a deterministic function of the step index (data order from explicit
   keys, e.g. a permutation drawn from ``fold_in(data_key, epoch)``), so no iterator state is saved.
 
-Metrics are averaged over each logging interval and appended to ``metrics.jsonl``; checkpoints fall on
-logging boundaries, so a resumed run rewrites exactly the lines it would have written.
+Metrics are averaged over each logging interval and appended to ``metrics.jsonl`` as
+``{"step": n, <metric>: mean, ...}``; checkpoints fall on logging boundaries, so a resumed run rewrites
+exactly the lines it would have written.
+
+Options:
+
+* ``eval_fn(state) -> {name: float}`` runs after every ``config.eval_every``-th step (0: never; the last
+  step too only when it is such a multiple) and adds a line ``{"step": n, "eval": {name: value}}`` after
+  that step's metrics line. It must be a deterministic function of the state (fixed keys, fixed data),
+  so a resumed run, which drops every line past its checkpoint and redoes those steps, writes the same
+  lines as an uninterrupted one.
+* ``init_from``: another run's folder (or its ``checkpoints/`` folder) whose latest checkpoint, optimiser
+  state included, starts a run whose ``workdir`` holds no checkpoint yet. The step counter continues
+  from that checkpoint's step, so ``config.steps`` stays the total (a 2 000-step run fine-tuned for 200
+  more has ``steps=2200``); once the new run has checkpoints of its own it resumes from those.
+* ``mesh``: a data mesh (:func:`jaxmotion.train.mesh.data_mesh`). State and key are replicated on it,
+  every batch is split along its leading axis (which must divide by the device count), and the step
+  compiles as one SPMD program; checkpoints restore onto the mesh. ``None`` (default): one device, as
+  before. With several processes, only process 0 writes ``metrics.jsonl`` and shows progress.
 """
 
 from __future__ import annotations
@@ -25,7 +42,10 @@ from typing import Any, Protocol
 import jax
 import jax.numpy as jnp
 
+from jax.sharding import Mesh
+
 from jaxmotion.train.checkpoint import Checkpointer
+from jaxmotion.train.mesh import is_primary, replicate, replicated, shard_batch
 from jaxmotion.train.progress import Progress
 
 
@@ -35,12 +55,14 @@ class StepFn(Protocol):
 
 @dataclasses.dataclass(frozen=True)
 class LoopConfig:
-    """How long to train and how often to log and checkpoint (``checkpoint_every`` = 0: only at the end)."""
+    """How long to train and how often to log and checkpoint (``checkpoint_every`` = 0: only at the end),
+    and how often to call the evaluation hook (``eval_every`` = 0: never)."""
 
     steps: int
     log_every: int = 50
     checkpoint_every: int = 1000
     keep_checkpoints: int = 2
+    eval_every: int = 0
 
     def __post_init__(self):
         if self.steps < 0:
@@ -54,6 +76,8 @@ class LoopConfig:
             )
         if self.keep_checkpoints < 1:
             raise ValueError(f"LoopConfig.keep_checkpoints must be >= 1, got {self.keep_checkpoints}")
+        if self.eval_every < 0:
+            raise ValueError(f"LoopConfig.eval_every must be >= 0 (0: never), got {self.eval_every}")
 
 
 def train(
@@ -65,18 +89,27 @@ def train(
     config: LoopConfig,
     workdir: str | Path | None = None,
     progress: bool = True,
+    mesh: Mesh | None = None,
+    init_from: str | Path | None = None,
+    eval_fn: Callable[[Any], Mapping[str, float]] | None = None,
 ) -> Any:
-    """Run ``config.steps`` steps from ``state`` (or from the latest checkpoint in ``workdir``).
+    """Run ``config.steps`` steps from ``state`` (or from the latest checkpoint in ``workdir``, or else
+    from ``init_from``'s); see the module docstring for ``mesh``, ``init_from`` and ``eval_fn``.
 
     With ``workdir`` set, checkpoints go to ``workdir/checkpoints`` and averaged metrics to
     ``workdir/metrics.jsonl``; a run that finds a checkpoint resumes from it. Returns the final state.
     """
     ckpt = Checkpointer(Path(workdir) / "checkpoints", max_to_keep=config.keep_checkpoints) if workdir else None
-    log_path = Path(workdir) / "metrics.jsonl" if workdir else None
+    primary = is_primary()
+    log_path = Path(workdir) / "metrics.jsonl" if workdir and primary else None
     try:
+        if mesh is not None:
+            state, key = replicate(state, mesh), replicate(key, mesh)
         if ckpt is not None and ckpt.latest_step() is not None:
             state = ckpt.restore(state)
-            print(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}", file=sys.stderr)
+            _report(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}")
+        elif init_from is not None:
+            state = _restore_from(init_from, state)
         start = int(state.step)
         if log_path is not None:
             _truncate_log(log_path, start)
@@ -87,22 +120,32 @@ def train(
         def run_step(state, batch, loop_key):
             return step_fn(state, batch, jax.random.fold_in(loop_key, state.step))
 
-        run_step = jax.jit(run_step, donate_argnums=0)
-        bar = Progress(config.steps, start) if progress else None
+        if mesh is None:
+            run_step, place = jax.jit(run_step, donate_argnums=0), lambda batch: batch
+        else:
+            run_step = jax.jit(run_step, donate_argnums=0, out_shardings=replicated(mesh))
+            place = lambda batch: shard_batch(batch, mesh)  # noqa: E731
+        bar = Progress(config.steps, start) if progress and primary else None
         totals, count = None, 0
         for step in range(start, config.steps):
-            state, metrics = run_step(state, batch_fn(step), key)
+            state, metrics = run_step(state, place(batch_fn(step)), key)
+            if step == start and int(state.step) != step + 1:
+                raise ValueError(f"step_fn: the state's step went from {step} to {int(state.step)}; a step "
+                                 f"function advances it by exactly 1 (per-step keys and resume depend on it)")
             totals = metrics if totals is None else jax.tree.map(jnp.add, totals, metrics)
             count += 1
             done = step + 1
             if done % config.log_every == 0 or done == config.steps:
                 means = {k: float(v) / count for k, v in totals.items()}
-                if log_path is not None:
-                    with log_path.open("a") as f:
-                        f.write(json.dumps({"step": done, **means}) + "\n")
+                _append(log_path, {"step": done, **means})
                 if bar is not None:
                     bar.update(done, means)
                 totals, count = None, 0
+            if eval_fn is not None and config.eval_every and done % config.eval_every == 0:
+                values = {k: float(v) for k, v in eval_fn(state).items()}
+                _append(log_path, {"step": done, "eval": values})
+                if bar is not None:
+                    bar.message(f"eval at step {done}: " + " | ".join(f"{k} {v:.4g}" for k, v in values.items()))
             if ckpt is not None and (
                 done == config.steps or (config.checkpoint_every and done % config.checkpoint_every == 0)
             ):
@@ -113,6 +156,40 @@ def train(
     finally:
         if ckpt is not None:
             ckpt.close()
+
+
+def _restore_from(init_from: str | Path, like: Any) -> Any:
+    """The latest checkpoint of another run (its folder or its ``checkpoints/``), into ``like``'s form."""
+    folder = Path(init_from)
+    if (folder / "checkpoints").is_dir():
+        folder = folder / "checkpoints"
+    if not folder.is_dir():
+        raise FileNotFoundError(f"init_from: {init_from} is not a folder")
+    source = Checkpointer(folder, read_only=True)
+    try:
+        step = source.latest_step()
+        if step is None:
+            raise FileNotFoundError(f"init_from: no checkpoint under {folder}")
+        try:
+            state = source.restore(like, step)
+        except Exception as error:  # orbax raises several types for a tree that does not fit
+            raise ValueError(f"init_from: the checkpoint at step {step} in {folder} does not match the "
+                             f"state's structure (another model or optimiser?): {error}") from error
+    finally:
+        source.close()
+    _report(f"initialised from the checkpoint at step {step} in {folder}")
+    return state
+
+
+def _report(message: str) -> None:
+    if is_primary():
+        print(message, file=sys.stderr)
+
+
+def _append(path: Path | None, record: Mapping[str, Any]) -> None:
+    if path is not None:
+        with path.open("a") as f:
+            f.write(json.dumps(record) + "\n")
 
 
 def _truncate_log(path: Path, step: int) -> None:

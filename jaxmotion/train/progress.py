@@ -33,6 +33,11 @@ class Progress:
         self.stream.write(("\r" + line) if self._tty else line + "\n")
         self.stream.flush()
 
+    def message(self, text: str) -> None:
+        """A line of its own (e.g. an evaluation's results) that the progress line does not overwrite."""
+        self.stream.write(("\r\033[K" + text + "\n") if self._tty else text + "\n")
+        self.stream.flush()
+
     def close(self) -> None:
         if self._tty:
             self.stream.write("\n")
