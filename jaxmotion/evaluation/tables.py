@@ -1,0 +1,172 @@
+"""Paper tables, method-agnostic: rows are method recipes, scored together under one protocol.
+
+A **recipe** is anything with ``fit(data, key, workdir, **loop_options) -> params`` and
+``sampler(params, skeleton) -> Sampler`` (:class:`Recipe`); each paper's training config is one
+(:class:`jaxmotion.train.actor.ActorTraining`, :class:`jaxmotion.train.a2m.A2MTraining`). A table is a
+mapping of row names to recipes: :func:`fit_rows` trains every row from the same key (same data order, and
+the same initialisation where shapes agree, so rows differ only by what the table varies) in its own folder
+``<workdir>/<slug(row)>/``, where it resumes from its checkpoints; :func:`score_rows` scores the samplers
+together under the dataset's evaluator and protocol (one repetition's real draws shared by all rows).
+
+Rows come back in the protocol's metric names (``accuracy``, ``FID_train``, ``FID_test``, ``diversity``,
+``multimodality``); :func:`paper_columns` renames them to a paper's columns (:data:`ACTOR_COLUMNS`,
+accuracy in %). Tables that span several datasets put them :func:`side_by_side` under dataset-prefixed
+columns (``"UESTC FID_tr"``); :func:`reported_row` lays a paper's printed numbers out the same way.
+
+The paper datasets' embedded stand-ins, with the evaluator each paper scores them with, are
+:data:`STAND_INS`; :class:`TableData` names the dataset a table loads and :func:`real_sets` loads it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any, Protocol
+
+import jax
+import numpy as np
+
+from jaxmotion.data import synthetic
+from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, evaluate
+from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
+from jaxmotion.geometry.skeletons import Skeleton
+
+
+class Recipe(Protocol):
+    """A method as a table row: how to train it, and its protocol sampler once trained."""
+
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options) -> Any: ...
+
+    def sampler(self, params: Any, skeleton: Skeleton) -> Sampler: ...
+
+
+#: The protocol's metric names -> ACTOR's columns, in the paper's order (accuracy shown in %).
+ACTOR_COLUMNS = {"FID_train": "FID_tr", "FID_test": "FID_test", "accuracy": "Acc. (%)", "diversity": "Div.",
+                 "multimodality": "Multimod."}
+PERCENT = frozenset({"accuracy"})
+
+
+@dataclasses.dataclass(frozen=True)
+class StandIn:
+    """The embedded dataset standing in for a paper dataset, the evaluator the papers score it with
+    (a :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name), whether it has a test split and
+    its size (classes, training clips)."""
+
+    dataset: str
+    evaluator: str
+    test_split: bool
+    num_classes: int
+    clips: int
+
+
+#: The paper datasets -> their embedded stand-ins.
+STAND_INS = {
+    "NTU-13": StandIn("synth-ntu13", "synth-ntu13/gru", False, 13, 3900),
+    "UESTC": StandIn("synth-uestc", "synth-uestc/stgcn", True, 40, 10_650),
+    "HumanAct12": StandIn("synth-humanact12", "synth-humanact12/gru", False, 12, 1200),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class TableData:
+    """The dataset a table trains and evaluates on.
+
+    ``count``: the first ``count`` sequences of each split only (smoke runs). ``test_split``: evaluate
+    against the test split too (``FID_test``), as on UESTC; NTU-13 and HumanAct12 have a train split only.
+    """
+
+    name: str = "synth-uestc"
+    seed: int = 0
+    count: int | None = None
+    test_split: bool = True
+
+    def __post_init__(self):
+        variant = synthetic.VARIANTS.get(self.name)
+        if self.test_split and variant is not None and "test" not in variant.splits:
+            raise ValueError(f"TableData.test_split: {self.name} has no test split; set test_split=False")
+
+
+def real_sets(data: TableData, data_root: str | None = None) -> dict[str, MotionDataset]:
+    """The real sets the protocol compares with: ``{"train": ...}`` plus ``"test"`` when there is one."""
+    sets = {"train": load_dataset(data.name, "train", seed=data.seed, data_root=data_root, count=data.count)}
+    if data.test_split:
+        sets["test"] = load_dataset(data.name, "test", seed=data.seed, data_root=data_root, count=data.count)
+    return sets
+
+
+def slug(name: str) -> str:
+    """A folder name for a table row: ``"w/o µ/Σ tokens"`` -> ``"w-o-tokens"``."""
+    text = re.sub(r"[^a-z0-9.+]+", "-", name.lower()).strip("-")
+    return text or "row"
+
+
+def fit_rows(rows: Mapping[str, Recipe], data: MotionDataset, key: jax.Array, workdir: str | Path,
+             **loop_options) -> dict[str, Sampler]:
+    """Train every row from the same ``key`` in ``<workdir>/<slug(row)>/``; return their samplers."""
+    folders = [slug(name) for name in rows]
+    if len(set(folders)) != len(folders):
+        raise ValueError(f"rows: names must give distinct folder names, got {list(rows)}")
+    return {name: recipe.sampler(recipe.fit(data, key, Path(workdir) / folder, **loop_options), data.skeleton)
+            for (name, recipe), folder in zip(rows.items(), folders)}
+
+
+def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[str, MotionDataset],
+               evaluator: RecognizerTraining, protocol: ProtocolConfig, *, data_root: str | None = None,
+               **protocol_options) -> dict[str, dict[str, list[float]]]:
+    """Score ``samplers`` with the ``evaluator`` under ``protocol``; rows in the protocol's metric names,
+    the Real row last. ``protocol_options`` go to :func:`~jaxmotion.evaluation.protocol.evaluate`."""
+    recognizer, _ = trained_recognizer(evaluator, data_root=data_root)
+    rows = evaluate(key, samplers, recognizer, real, protocol, **protocol_options)
+    return {**{name: rows[name] for name in samplers}, "Real": rows["Real"]}
+
+
+def paper_columns(rows: Mapping[str, Mapping[str, Any]], columns: Mapping[str, str] = ACTOR_COLUMNS
+                  ) -> dict[str, dict[str, np.ndarray]]:
+    """Rows in the protocol's metric names -> the paper's ``columns`` (in their order; metrics in
+    :data:`PERCENT` × 100). Metrics the paper has no column for are dropped."""
+    return {name: {column: 100 * np.asarray(cells[metric]) if metric in PERCENT else np.asarray(cells[metric])
+                   for metric, column in columns.items() if metric in cells}
+            for name, cells in rows.items()}
+
+
+def side_by_side(tables: Mapping[str, Mapping[str, Mapping[str, Any]]]) -> dict[str, dict[str, Any]]:
+    """Tables of several datasets, ``{label: {row: {column: cell}}}``, as one: row ``r`` holds every
+    dataset's cells of ``r`` under columns prefixed with the dataset's label (``"UESTC FID_test"``); rows in
+    first-seen order."""
+    rows: dict[str, dict[str, Any]] = {}
+    for label, table in tables.items():
+        for name, cells in table.items():
+            rows.setdefault(name, {}).update({f"{label} {column}": cell for column, cell in cells.items()})
+    return rows
+
+
+def reported_row(numbers: Mapping[str, Sequence[float | None]], columns: Mapping[str, str] = ACTOR_COLUMNS
+                 ) -> dict[str, float]:
+    """A row of a paper's table, ``{dataset label: values}`` with the values in the paper's column order
+    (``columns``; FID_test only where the stand-in has a test split; None where the paper prints no number),
+    as cells under dataset-prefixed columns, laid out as :func:`side_by_side` does."""
+    cells = {}
+    for label, values in numbers.items():
+        names = [c for m, c in columns.items() if m != "FID_test" or STAND_INS[label].test_split]
+        if len(values) != len(names):
+            raise ValueError(f"numbers[{label!r}]: expected {len(names)} values ({', '.join(names)}), "
+                             f"got {len(values)}")
+        cells.update({f"{label} {column}": value for column, value in zip(names, values) if value is not None})
+    return cells
+
+
+def interleave_reported(rows: Mapping[str, Mapping[str, Any]], reported: Mapping[str, Mapping[str, Any]],
+                        order: Sequence[str]) -> dict[str, dict[str, Any]]:
+    """The table in the paper's row ``order``: each measured row, then the paper's numbers for that row as
+    ``"<row> (reported)"`` (also for rows the paper has and this table does not measure)."""
+    table = {}
+    for row in order:
+        if row in rows:
+            table[row] = rows[row]
+        if row in reported:
+            table[f"{row} (reported)"] = reported[row]
+    return table

@@ -1,0 +1,59 @@
+"""Action2Motion's GRU VAE (:mod:`jaxmotion.models.a2m`) put to use: its sampler for the evaluation protocol.
+
+Axes: N motions, T frames, J joints, F = J·3.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxmotion.data.pipeline import window_frames
+from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.models.a2m import A2MVAEConfig, A2MVAEParams, a2m_generate
+
+
+@functools.partial(jax.jit, static_argnames=("frames", "config"))
+def _generate_rows(params: A2MVAEParams, key_data: jax.Array, actions: jax.Array, *, frames: int,
+                   config: A2MVAEConfig) -> jax.Array:
+    """One motion per row, row n drawn from its own key: ``[N]`` keys and actions -> ``poses [N, frames, F]``."""
+    def one(k, action):
+        return a2m_generate(params, jax.random.wrap_key_data(k), action[None], frames, config)[0]
+
+    return jax.vmap(one)(key_data, actions)
+
+
+def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
+    """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions``: ``joints [N, T, J, 3]``
+    (``T = max(durations)``), ``translation [N, T, 3]`` (the root joint's path: A2M models joints only),
+    ``mask [N, T]``, ``lengths [N]`` and ``actions [N]``.
+
+    Row n is generated for its own duration (A2M's time counter runs over it) from ``fold_in(key, n)``, so
+    a row does not depend on the others; frames past its duration repeat its last frame, as real windows do.
+    """
+    if config.pose_dim != 3 * skeleton.num_joints:
+        raise ValueError(f"skeleton: the model's pose_dim {config.pose_dim} is not 3 × the {skeleton.num_joints} "
+                         f"joints of {skeleton.name}")
+
+    def sampler(key, actions, durations):
+        actions, durations = np.asarray(actions, np.int32), np.asarray(durations, np.int32)
+        if actions.ndim != 1 or durations.shape != actions.shape or durations.size == 0 or durations.min() < 1:
+            raise ValueError(f"actions, durations: expected two non-empty [N] arrays, durations >= 1; got shapes "
+                             f"{actions.shape}, {durations.shape}")
+        keys = np.asarray(jax.vmap(lambda n: jax.random.key_data(jax.random.fold_in(key, n)))(
+            jnp.arange(len(actions))))
+        frames = int(durations.max())
+        joints = np.empty((len(actions), frames, skeleton.num_joints, 3), np.float32)
+        for duration in np.unique(durations):  # one generation per distinct duration (the protocol has one)
+            rows = np.flatnonzero(durations == duration)
+            poses = _generate_rows(params, keys[rows], jnp.asarray(actions[rows]), frames=int(duration), config=config)
+            index, _ = window_frames(jnp.zeros(1, jnp.int32), jnp.array([duration]), frames)  # repeat the last frame
+            joints[rows] = np.asarray(poses).reshape(len(rows), int(duration), -1, 3)[:, np.asarray(index[0])]
+        mask = np.arange(frames)[None] < durations[:, None]
+        return {"joints": joints, "translation": joints[:, :, 0].copy(), "mask": mask, "lengths": durations,
+                "actions": actions}
+
+    return sampler
