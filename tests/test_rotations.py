@@ -314,3 +314,136 @@ def test_kernel_preserves_float32(name):
     x = jnp.asarray(random_input(1, src, BATCH), jnp.float32)
     assert fn(x).dtype == jnp.float32
     assert JIT[name](x).dtype == jnp.float32
+
+
+# ---------------------------------------------------------------- Euler angles (BVH's convention)
+
+EULER_ORDERS = list(rot.EULER_ORDERS)
+EULER_BATCH = 16  # one shape for every Euler test (each kernel compiles once), drawn from the 64-value pools
+EULER_ATOL = {np.float32: 2e-5, np.float64: 1e-12}
+# Angle ranges of the draws: first and third in (-pi, pi), the middle away from the lock.
+EULER_RANGE = np.array([np.pi - 1e-3, np.pi / 2 - 1e-2, np.pi - 1e-3], np.float32)
+
+
+def euler_inputs(seed, middle=None):
+    """``[EULER_BATCH, 3]`` float32 angles in ``EULER_RANGE`` (every middle angle ``middle`` if given) and
+    ``[EULER_BATCH, 3, 3]`` uniform rotations."""
+    angles = (uniform(seed, (EULER_BATCH, 3), 2.0) - 1.0) * EULER_RANGE
+    if middle is not None:
+        angles[:, 1] = middle
+    return angles, np.asarray(random_rotation(seed, (EULER_BATCH,)))
+
+
+def euler_round_trip(angles, matrices, order):
+    """The matrices of ``angles``, the angles read back from them and their matrices, then the angles read
+    off ``matrices`` and their matrices (both reads in one call, to compile fewer kernels)."""
+    forward = rot.euler_to_matrix(angles, order)
+    read = rot.matrix_to_euler(jnp.concatenate([forward, matrices]), order)
+    rebuilt = rot.euler_to_matrix(read, order)
+    n = angles.shape[0]
+    return forward, read[:n], rebuilt[:n], read[n:], rebuilt[n:]
+
+
+EULER_JIT = jax.jit(euler_round_trip, static_argnames="order")
+
+
+def elementary_rotation(axis, t):
+    """Right-handed rotation about coordinate axis "X", "Y" or "Z", for column vectors: [N] -> [N, 3, 3]."""
+    c, s, one, zero = np.cos(t), np.sin(t), np.ones_like(t), np.zeros_like(t)
+    rows = {
+        "X": [[one, zero, zero], [zero, c, -s], [zero, s, c]],
+        "Y": [[c, zero, s], [zero, one, zero], [-s, zero, c]],
+        "Z": [[c, -s, zero], [s, c, zero], [zero, zero, one]],
+    }[axis]
+    return np.moveaxis(np.array(rows, np.float64), -1, 0)
+
+
+def check_euler_round_trip(outputs, angles, matrices, dtype, locked=False):
+    forward, back, rebuilt, read, reread = outputs
+    back, read = np.asarray(back), np.asarray(read)
+    assert_close(rebuilt, forward, atol=EULER_ATOL[dtype])
+    assert_close(reread, matrices, atol=EULER_ATOL[dtype])
+    assert np.all(np.abs(read[:, 1]) <= np.pi / 2 + 1e-6) and np.all(np.abs(read) <= np.pi + 1e-6)
+    if locked:
+        assert np.all(back[:, 2] == 0.0)  # the whole turn in the first angle
+        assert_close(back[:, 1], angles[:, 1], atol=1e-6)
+    else:
+        assert_close(back, angles, atol=EULER_ATOL[dtype])
+
+
+@pytest.mark.parametrize("order", EULER_ORDERS)
+def test_euler_to_matrix_is_the_product_of_axis_rotations_in_channel_order(order):
+    angles, matrices = euler_inputs(0)
+    first, second, third = (elementary_rotation(axis, angles[:, i].astype(np.float64)) for i, axis in enumerate(order))
+    assert_close(EULER_JIT(angles, matrices, order)[0], first @ second @ third)
+
+
+def test_zxy_quarter_turn_of_the_first_channel_turns_x_to_y():
+    m = np.asarray(rot.euler_to_matrix(np.array([np.pi / 2, 0.0, 0.0], np.float32), "ZXY"))
+    assert_close(m @ np.array([1.0, 0.0, 0.0]), [0.0, 1.0, 0.0])
+
+
+@given(seed=seeds)
+@pytest.mark.parametrize("order", EULER_ORDERS)
+def test_matrix_to_euler_round_trip_recovers_angles_and_any_matrix(order, seed):
+    angles, matrices = euler_inputs(seed)
+    check_euler_round_trip(EULER_JIT(angles, matrices, order), angles, matrices, np.float32)
+
+
+@given(seed=seeds, sign=st.sampled_from([1.0, -1.0]))
+@pytest.mark.parametrize("order", EULER_ORDERS)
+def test_gimbal_lock_puts_the_whole_turn_in_the_first_angle(order, seed, sign):
+    angles, matrices = euler_inputs(seed, middle=sign * np.pi / 2)
+    check_euler_round_trip(EULER_JIT(angles, matrices, order), angles, matrices, np.float32, locked=True)
+
+
+@given(seed=seeds, sign=st.sampled_from([1.0, -1.0]), log_gap=st.floats(-9.0, -2.0))
+@pytest.mark.parametrize("order", EULER_ORDERS)
+def test_near_gimbal_lock_matrix_is_still_reproduced(order, seed, sign, log_gap):
+    angles, matrices = euler_inputs(seed, middle=sign * (np.pi / 2 - 10.0**log_gap))
+    forward, _, rebuilt, _, _ = EULER_JIT(angles, matrices, order)
+    assert_close(rebuilt, forward, atol=EULER_ATOL[np.float32])
+
+
+@pytest.mark.parametrize("middle", [None, np.pi / 2, -np.pi / 2])
+def test_euler_kernels_agree_eagerly_and_under_jit(middle):
+    angles, matrices = euler_inputs(5, middle=middle)
+    for order in EULER_ORDERS:
+        eager = euler_round_trip(angles, matrices, order)
+        check_euler_round_trip(eager, angles, matrices, np.float32, locked=middle is not None)
+        for jitted, direct in zip(EULER_JIT(angles, matrices, order), eager):
+            assert_close(jitted, direct, atol=1e-6)
+
+
+@pytest.mark.parametrize("middle", [None, np.pi / 2, -np.pi / 2, np.pi / 2 - 1e-9, -np.pi / 2 + 1e-12])
+def test_euler_conversions_keep_float64_numpy_input_in_float64(middle):
+    angles, matrices = (x.astype(np.float64) for x in euler_inputs(3))
+    if middle is not None:
+        angles[:, 1] = middle
+    # float32 draws made orthonormal in float64
+    matrices[:, 0] /= np.linalg.norm(matrices[:, 0], axis=-1, keepdims=True)
+    matrices[:, 2] = np.cross(matrices[:, 0], matrices[:, 1])
+    matrices[:, 2] /= np.linalg.norm(matrices[:, 2], axis=-1, keepdims=True)
+    matrices[:, 1] = np.cross(matrices[:, 2], matrices[:, 0])
+    exactly_locked = middle is not None and abs(middle) == np.pi / 2
+    with jax.enable_x64(True):
+        for order in EULER_ORDERS:
+            outputs = euler_round_trip(angles, matrices, order)
+            assert all(x.dtype == jnp.float64 for x in outputs)
+            if middle is None or exactly_locked:
+                check_euler_round_trip(outputs, angles, matrices, np.float64, locked=exactly_locked)
+            else:  # next to the lock only the matrix is determined
+                assert_close(outputs[2], outputs[0], atol=EULER_ATOL[np.float64])
+
+
+@pytest.mark.parametrize("fn", [rot.euler_to_matrix, rot.matrix_to_euler])
+def test_unknown_euler_order_is_rejected_listing_valid_orders(fn):
+    with pytest.raises(ValueError, match=re.escape("unknown order 'XYX'; valid orders are ['XYZ', 'XZY'")):
+        fn(np.zeros((3, 3), np.float32), "XYX")
+
+
+def test_euler_wrong_trailing_shape_is_rejected():
+    with pytest.raises(ValueError, match=re.escape("euler_to_matrix: expected angles of shape [..., 3], got (4,)")):
+        rot.euler_to_matrix(np.zeros(4, np.float32), "ZXY")
+    with pytest.raises(ValueError, match=re.escape("matrix_to_euler: expected matrix of shape [..., 3, 3], got (3,)")):
+        rot.matrix_to_euler(np.zeros(3, np.float32), "ZXY")

@@ -1,7 +1,8 @@
 """Geometry: rotation conversions, kinematic trees, forward kinematics and the SMPL-format body layer.
 
 Library frame: metres, +Y up, the subject faces +Z at rest, +X is the subject's left (SMPL's frame).
-Rotations act on column vectors; quaternions are (w, x, y, z); 6D is the first two matrix rows (ACTOR).
+Rotations act on column vectors; quaternions are (w, x, y, z); 6D is the first two matrix rows (ACTOR);
+Euler angles follow BVH (order "ZXY": R = R_z @ R_x @ R_y).
 """
 
 from jaxmotion.geometry.body import BodyModel, body_forward, body_forward_rotmats, load_body_model, save_body_model
@@ -18,11 +19,14 @@ from jaxmotion.geometry.kinematics import (
     transform_root,
 )
 from jaxmotion.geometry.rotations import (
+    EULER_ORDERS,
     REPRESENTATIONS,
     axis_angle_to_matrix,
     axis_angle_to_quaternion,
+    euler_to_matrix,
     from_matrix,
     matrix_to_axis_angle,
+    matrix_to_euler,
     matrix_to_quaternion,
     matrix_to_rot6d,
     quaternion_to_axis_angle,
@@ -37,8 +41,8 @@ __all__ = [
     "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",
     "forward_kinematics_transforms", "humanact12_to_library_frame", "library_to_humanact12_frame",
     "root_relative", "root_trajectory", "transform_root",
-    "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "from_matrix",
-    "matrix_to_axis_angle", "matrix_to_quaternion", "matrix_to_rot6d", "quaternion_to_axis_angle",
-    "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",
+    "EULER_ORDERS", "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "euler_to_matrix",
+    "from_matrix", "matrix_to_axis_angle", "matrix_to_euler", "matrix_to_quaternion", "matrix_to_rot6d",
+    "quaternion_to_axis_angle", "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",
     "CMU_MOCAP20", "NTU25", "SMPL24", "UESTC18", "VIBE18", "Skeleton", "bones", "topological_order",
 ]

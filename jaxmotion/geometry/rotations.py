@@ -13,6 +13,11 @@ Conventions (binding for the whole library):
 * 6D ("rot6d", ACTOR) = the first two ROWS of the matrix, flattened:
   [R00, R01, R02, R10, R11, R12], shape [..., 6]. The inverse is Gram-Schmidt:
   b1 = normalize(a1), b2 = normalize(a2 - <b1, a2> b1), b3 = b1 x b2, rows of R = (b1, b2, b3).
+* Euler angles (BVH's): [..., 3] radians listed in the order of ``order``, one of ``EULER_ORDERS``.
+  Order "ZXY" with angles (a, b, c) is ``R = R_z(a) @ R_x(b) @ R_y(c)``: intrinsic rotations (about Z,
+  then the new X, then the newest Y), equivalently extrinsic ones in the reverse order, which is how
+  BVH readers (Blender, MotionBuilder) apply a joint's channels ``Zrotation Xrotation Yrotation``.
+  ``R_x(t)`` is the right-handed rotation by t about +X (``R_x(t) e_y = cos t e_y + sin t e_z``).
 
 All functions are batched over any leading axes, jit-able and differentiable, and keep values and
 gradients finite at angle 0 and at pi (double-where + Taylor branches; matrix -> quaternion picks the
@@ -25,11 +30,14 @@ from types import MappingProxyType
 import jax.numpy as jnp
 
 __all__ = [
+    "EULER_ORDERS",
     "REPRESENTATIONS",
     "axis_angle_to_matrix",
     "axis_angle_to_quaternion",
+    "euler_to_matrix",
     "from_matrix",
     "matrix_to_axis_angle",
+    "matrix_to_euler",
     "matrix_to_quaternion",
     "matrix_to_rot6d",
     "quaternion_to_axis_angle",
@@ -225,3 +233,75 @@ def to_matrix(x, rep):
 def from_matrix(m, rep):
     """[..., 3, 3] -> [..., *REPRESENTATIONS[rep]]."""
     return _converter(_FROM_MATRIX, rep, "from_matrix")(m)
+
+
+# --- Euler angles ----------------------------------------------------------------------------------------
+
+#: The proper (Tait-Bryan) orders: each axis once. Proper Euler orders such as ZXZ do not occur in BVH.
+EULER_ORDERS = ("XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX")
+
+# cos(middle angle) below this many float epsilons counts as gimbal lock: the first and third axes then
+# coincide and only their combined angle is defined. Treating a matrix as locked costs an error of about
+# cos(middle angle), so the threshold is kept near rounding level; just above it the first angle is noisy,
+# but the third angle is fitted to it (below), so the matrix is still reproduced.
+_LOCK_EPS = 4.0
+
+
+def _euler_axes(order: str, fn: str) -> tuple[tuple[int, int, int], float]:
+    """The axis indices (i, j, k) of ``order`` and its parity s: +1 for XYZ, YZX, ZXY, -1 for the others."""
+    if order not in EULER_ORDERS:
+        raise ValueError(f"{fn}: unknown order {order!r}; valid orders are {list(EULER_ORDERS)}")
+    axes = tuple("XYZ".index(axis) for axis in order)
+    return axes, (1.0 if (axes[1] - axes[0]) % 3 == 1 else -1.0)
+
+
+# Every order reduces to XYZ by relabelling axes: with P = [e_i e_j e_k] (det P = s),
+# R_i(a) R_j(b) R_k(c) = P R_x(s a) R_y(s b) R_z(s c) P^T, i.e. R[p_x, p_y] = R_xyz(s a, s b, s c)[x, y].
+# Both directions are then closed forms on matrix entries: no 3x3 products, which keeps them cheap to
+# compile and run.
+
+
+def euler_to_matrix(angles, order: str):
+    """[..., 3] radians, in the order of ``order`` -> [..., 3, 3] = R_first @ R_second @ R_third.
+
+    ``order`` is one of ``EULER_ORDERS`` (static under jit); see the module docstring for the convention.
+    """
+    v = _checked(angles, (3,), "euler_to_matrix", "angles")
+    axes, s = _euler_axes(order, "euler_to_matrix")
+    (ca, cb, cc), (sa, sb, sc) = (jnp.cos(v[..., n]) for n in range(3)), (s * jnp.sin(v[..., n]) for n in range(3))
+    xyz = (  # R_x(a) R_y(b) R_z(c), entry by entry (the sines carry the parity)
+        (cb * cc, -cb * sc, sb),
+        (sa * sb * cc + ca * sc, ca * cc - sa * sb * sc, -sa * cb),
+        (sa * sc - ca * sb * cc, ca * sb * sc + sa * cc, ca * cb),
+    )
+    inverse = [axes.index(axis) for axis in range(3)]
+    rows = [jnp.stack([xyz[inverse[r]][inverse[c]] for c in range(3)], axis=-1) for r in range(3)]
+    return jnp.stack(rows, axis=-2)
+
+
+def matrix_to_euler(matrix, order: str):
+    """[..., 3, 3] rotation -> [..., 3] radians (a, b, c) with ``euler_to_matrix((a, b, c), order) == matrix``.
+
+    Ranges: a, c in [-pi, pi], the middle angle b in [-pi/2, pi/2]. At gimbal lock (b = +-pi/2, where only
+    a combination of a and c is defined) c is 0 and the whole turn goes to a, so the matrix is still
+    reproduced. ``order`` is one of ``EULER_ORDERS`` (static under jit).
+
+    In the XYZ labelling (A = the relabelled matrix, angles times the parity s): A[0, 2] = sin b,
+    |(A[0, 0], A[0, 1])| = cos b, and column 2, R_x(a) R_y(b) e_z, gives a. The third angle is read from the
+    residual ``(R_x(a) R_y(b))^T A = R_z(c)`` rather than from row 0, so the result reproduces the matrix
+    even where row 0 is too small to fix c (near the lock).
+    """
+    m = _checked(matrix, (3, 3), "matrix_to_euler", "matrix")
+    axes, s = _euler_axes(order, "matrix_to_euler")
+    rel = [[m[..., axes[r], axes[c]] for c in range(3)] for r in range(3)]  # A: rel[r][c] = R[p_r, p_c]
+    cos_b = jnp.hypot(rel[0][0], rel[0][1])
+    b = jnp.arctan2(rel[0][2], cos_b)
+    locked = cos_b < _LOCK_EPS * jnp.finfo(m.dtype).eps
+    # Free: column 2 is (sin b, -sin a cos b, cos a cos b). Locked (c = 0): column 1 is (0, cos a, sin a).
+    a = jnp.where(locked, jnp.arctan2(rel[2][1], rel[1][1]), jnp.arctan2(-rel[1][2], rel[2][2]))
+    ca, sa, cb, sb = jnp.cos(a), jnp.sin(a), jnp.cos(b), jnp.sin(b)
+    # Column 0 of the residual (R_x(a) R_y(b))^T A = R_z(c) is (cos c, sin c, 0).
+    cos_c = cb * rel[0][0] + sa * sb * rel[1][0] - ca * sb * rel[2][0]
+    sin_c = ca * rel[1][0] + sa * rel[2][0]
+    c = jnp.where(locked, jnp.zeros_like(b), jnp.arctan2(sin_c, cos_c))
+    return s * jnp.stack([a, b, c], axis=-1)
