@@ -12,22 +12,34 @@ from __future__ import annotations
 
 import dataclasses
 
-from experiments.actor_uestc import UestcSweep, run_sweep
 from jaxmotion import experiment
+from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.tables import TableDataset, table_dataset
+from jaxmotion.train.actor import ActorTraining, uestc_training
+
+# A.2: "sensitivity ... to different batch sizes"; 20 is the value used
+CLAIMS = (
+    Claim("batch 20", "<", "batch 10", "FID_tr", "A.2: 20 is best"),
+    Claim("batch 20", "<", "batch 40", "FID_tr", "A.2: 20 is best"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorAblationBatchConfig(UestcSweep):
+class ActorAblationBatchConfig(experiment.Sweep):
+    training: ActorTraining  # the headline UESTC run (experiments.actor_uestc)
+    table: TableDataset
     values: tuple[int, ...] = (10, 20, 30, 40)
     FIELD = "batch_size"
     SMOKE_VALUES = (4, 8)
+    SETUP = staticmethod(lambda profile: (uestc_training(profile), table_dataset("UESTC", profile)))
 
     def label(self, value) -> str:
         return f"batch {value}"
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_batch", ActorAblationBatchConfig, run_sweep, argv, description=__doc__)
+    return experiment.main("actor_ablation_batch", ActorAblationBatchConfig, experiment.run_sweep, argv, description=__doc__,
+                           claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -12,22 +12,34 @@ from __future__ import annotations
 
 import dataclasses
 
-from experiments.actor_uestc import UestcSweep, run_sweep
 from jaxmotion import experiment
+from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.tables import TableDataset, table_dataset
+from jaxmotion.train.actor import ActorTraining, uestc_training
+
+# A.1: "a good trade-off between diversity and realism ... best balanced at λ_KL = 1e-5"
+CLAIMS = (
+    Claim("λ_KL = 1e-05", "<", "λ_KL = 0.001", "FID_tr", "A.1: a heavy KL term loses realism"),
+    Claim("λ_KL = 1e-05", "<", "λ_KL = 1e-06", "FID_tr", "A.1: a light KL term samples worse from N(0, I)"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorAblationKlConfig(UestcSweep):
+class ActorAblationKlConfig(experiment.Sweep):
+    training: ActorTraining  # the headline UESTC run (experiments.actor_uestc)
+    table: TableDataset
     values: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6)
     FIELD = "losses.kl"
     SMOKE_VALUES = (1e-4, 1e-5)
+    SETUP = staticmethod(lambda profile: (uestc_training(profile), table_dataset("UESTC", profile)))
 
     def label(self, value) -> str:
         return f"λ_KL = {value:g}"
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_kl", ActorAblationKlConfig, run_sweep, argv, description=__doc__)
+    return experiment.main("actor_ablation_kl", ActorAblationKlConfig, experiment.run_sweep, argv, description=__doc__,
+                           claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -12,22 +12,35 @@ from __future__ import annotations
 
 import dataclasses
 
-from experiments.actor_uestc import UestcSweep, run_sweep
 from jaxmotion import experiment
+from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.tables import TableDataset, table_dataset
+from jaxmotion.train.actor import ActorTraining, uestc_training
+
+# A.3: "the performance degrades at 2 or 4 layers, we see marginal gains after 6 layers"
+CLAIMS = (
+    Claim("8 layers", "<", "2 layers", "FID_tr", "A.3: 2 layers are suboptimal"),
+    Claim("8 layers", "<", "4 layers", "FID_tr", "A.3: 4 layers are suboptimal"),
+    Claim("8 layers", ">", "2 layers", "Acc. (%)", "A.3: 2 layers are suboptimal"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
-class ActorAblationLayersConfig(UestcSweep):
+class ActorAblationLayersConfig(experiment.Sweep):
+    training: ActorTraining  # the headline UESTC run (experiments.actor_uestc)
+    table: TableDataset
     values: tuple[int, ...] = (2, 4, 6, 8)
     FIELD = "model.layers"
     SMOKE_VALUES = (1, 2)
+    SETUP = staticmethod(lambda profile: (uestc_training(profile), table_dataset("UESTC", profile)))
 
     def label(self, value) -> str:
         return f"{value} layers"
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_layers", ActorAblationLayersConfig, run_sweep, argv, description=__doc__)
+    return experiment.main("actor_ablation_layers", ActorAblationLayersConfig, experiment.run_sweep, argv, description=__doc__,
+                           claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ What differs from the paper, and why:
   paper profiles; smoke trains L_P only.
 * Every variant keeps the headline's sizes (d, layers, ...): the paper's GRU "uses the same hyperparameters
   as the Transformer" (§4.3); ACTOR's code defaults to 4 GRU layers, the paper does not say which it ran.
-* The embedded stand-ins with their own recognisers (``jaxmotion.evaluation.actor_tables.EMBEDDED``):
+* The embedded stand-ins with their own recognisers (``jaxmotion.evaluation.tables.STAND_INS``):
   absolute numbers are not comparable with the paper's; the Real row computed here is the reference.
   paper() trains for the main runs' epochs (NTU-13 2000, UESTC 1000).
 
@@ -47,18 +47,13 @@ from __future__ import annotations
 import dataclasses
 
 from jaxmotion import experiment
-from jaxmotion.evaluation.actor_tables import (
-    TableDataset,
-    embedded_table_dataset,
-    reported_row,
-    run_datasets,
-    samplers_of,
-    train_variants,
-)
+from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
+from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row, run_tables, table_dataset
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.train.actor import ActorTraining
+from jaxmotion.train.actor import ActorTraining, table_training
+from jaxmotion.train.loop import LoopConfig
 
 # Table 2's rows: the ActorConfig fields each changes in the headline model
 ARCHITECTURES = {
@@ -89,20 +84,41 @@ REPORTED = {
 # steps at 1e-4). Measured on the 2-core CPU, per step: FC 0.03 s, GRU 0.04 s, the Transformers 0.09-0.1 s;
 # 5-20 s to compile each row's step. 3 repetitions of 500 motions: the autoregressive decoder generates frame
 # by frame (25 s per 1 000 motions), the ST-GCN takes 2.5 s per 1 000.
-CPU = ActorTraining(ActorConfig(num_classes=1, latent=64, ff=256, layers=2, heads=4), steps=900,
-                    losses=ActorLossWeights(joints=1.0), learning_rate=3e-4, log_every=100, checkpoint_every=300)
+CPU = ActorTraining(ActorConfig(num_classes=1, width=64, ff=256, layers=2, heads=4),
+                    LoopConfig(900, log_every=100, checkpoint_every=300), losses=ActorLossWeights(joints=1.0),
+                    learning_rate=3e-4)
 CPU_PROTOCOL = ProtocolConfig(repetitions=3, max_real=500)
+
+
+# §4.2 "Architecture design" and Table 2
+CLAIMS = (
+    Claim("Transformer", "<", "Fully connected", "UESTC FID_test", "Table 2: Transformer beats FC by a large margin"),
+    Claim("Transformer", "<", "GRU", "UESTC FID_test", "Table 2: Transformer beats GRU by a large margin"),
+    Claim("Transformer", "<", "Fully connected", "NTU-13 FID_tr", "Table 2: on both datasets"),
+    Claim("Transformer", "<", "GRU", "NTU-13 FID_tr", "Table 2: on both datasets"),
+    Claim("Transformer", "<", "(a) autoregressive Transformer", "UESTC FID_test",
+          "Table 2 (a): sequence-level decoding is key"),
+    Claim("Transformer", "<", "(a) autoregressive Transformer", "NTU-13 FID_tr", "Table 2 (a)"),
+    Claim("Transformer", "<", "(b) w/o µ/Σ tokens", "UESTC FID_test", "Table 2 (b): considerable drop without the tokens"),
+    Claim("Transformer", ">", "(b) w/o µ/Σ tokens", "UESTC Acc. (%)", "Table 2 (b)"),
+    Claim("Transformer", "<", "(c) w/o bias token", "UESTC FID_test",
+          "Table 2 (c): large decrease on UESTC without the bias token"),
+    Claim("(c) w/o bias token", "<", "Transformer", "NTU-13 FID_tr",
+          "Table 2 (c): concatenating the one-hot label improves NTU-13 a bit"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
 class ActorArchitectureConfig(experiment.ProfileConfig):
     uestc: TableDataset
+    uestc_training: ActorTraining  # the headline model every row changes
     ntu13: TableDataset
+    ntu13_training: ActorTraining
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorArchitectureConfig:
-        return cls(embedded_table_dataset("UESTC", profile, CPU, CPU_PROTOCOL),
-                   embedded_table_dataset("NTU-13", profile, CPU, CPU_PROTOCOL))
+        return cls(table_dataset("UESTC", profile, cpu_protocol=CPU_PROTOCOL), table_training("UESTC", profile, CPU),
+                   table_dataset("NTU-13", profile, cpu_protocol=CPU_PROTOCOL), table_training("NTU-13", profile, CPU))
 
 
 def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
@@ -112,17 +128,15 @@ def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
 
 
 def run(config: ActorArchitectureConfig, ctx: experiment.RunContext):
-    def samplers(dataset, train, workdir, key):
-        variants = architecture_variants(dataset.training)
-        return samplers_of(train_variants(variants, train, key, workdir), variants, train)
-
-    rows = run_datasets((config.uestc, config.ntu13), samplers, ctx)
-    return {name: cells for row, reported in REPORTED.items()
-            for name, cells in ((row, rows[row]), (f"{row} (reported)", reported))}
+    trainings = {config.uestc.label: config.uestc_training, config.ntu13.label: config.ntu13_training}
+    rows = run_tables((config.uestc, config.ntu13), lambda table: architecture_variants(trainings[table.label]),
+                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root)
+    return interleave_reported(rows, REPORTED, list(REPORTED))
 
 
 def main(argv=None):
-    return experiment.main("actor_architecture", ActorArchitectureConfig, run, argv, description=__doc__)
+    return experiment.main("actor_architecture", ActorArchitectureConfig, run, argv, description=__doc__,
+                           claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -42,24 +42,32 @@ import math
 import jax
 import numpy as np
 
-from experiments.actor_durations import save_curves
-from experiments.actor_recognition import real_plus_generated
-from experiments.actor_uestc import ActorUestcConfig
 from jaxmotion import experiment
+from jaxmotion.config import replace_paths
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.evaluation.actor_tables import ActorData, load_actor_data, slug
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, train_recognizer
-from jaxmotion.pipelines.actor import generate_motions
-from jaxmotion.train.actor import ActorTraining, train_actor
+from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, evaluator_spec, train_recognizer
+from jaxmotion.evaluation.tables import TableData, real_sets, slug
+from jaxmotion.pipelines.actor import generate_motions, real_plus_generated
+from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.train.loop import LoopConfig
+from jaxmotion.viz import save_curves
 
 REAL, AUGMENTED = "Real", "Real + generated"
 
 
+# Figure 6: generated motions help most when real data is scarce
+CLAIMS = (
+    Claim(AUGMENTED, ">", REAL, "10%", "Figure 6: augmenting helps at small fractions of the real data"),
+    Claim(AUGMENTED, ">", REAL, "25%", "Figure 6: augmenting helps at small fractions of the real data"),
+)
+
+
 @dataclasses.dataclass(frozen=True)
-class ActorAugmentationConfig:
+class ActorAugmentationConfig(experiment.ProfileConfig):
     training: ActorTraining  # ACTOR, trained on each fraction
     recognizer: RecognizerTraining  # the recipe every training set trains (its dataset field is replaced)
-    data: ActorData = ActorData()
+    data: TableData = TableData()
     fractions: tuple[float, ...] = (0.1, 0.25, 0.5, 1.0)
 
     def __post_init__(self):
@@ -70,21 +78,15 @@ class ActorAugmentationConfig:
             raise ValueError(f"data.test_split: Figure 6 tests on the test split; {self.data.name} needs one")
 
     @classmethod
-    def smoke(cls) -> ActorAugmentationConfig:
-        base = ActorUestcConfig.smoke()
-        return cls(base.training, dataclasses.replace(base.evaluator, steps=4, log_every=2, checkpoint_every=4),
-                   base.data, fractions=(0.5, 1.0))
-
-    @classmethod
-    def cpu(cls) -> ActorAugmentationConfig:
-        base = ActorUestcConfig.cpu()
-        return cls(dataclasses.replace(base.training, steps=500, checkpoint_every=500),
-                   dataclasses.replace(base.evaluator, steps=200), base.data)
-
-    @classmethod
-    def paper(cls) -> ActorAugmentationConfig:
-        base = ActorUestcConfig.paper()
-        return cls(base.training, base.evaluator, base.data)
+    def for_profile(cls, profile: str) -> ActorAugmentationConfig:
+        training, recognizer = uestc_training(profile), evaluator_spec("synth-uestc/stgcn", profile)
+        if profile == "smoke":
+            return cls(training, replace_paths(recognizer, {"loop": LoopConfig(4, log_every=2, checkpoint_every=4)}),
+                       TableData(count=80), fractions=(0.5, 1.0))
+        if profile == "cpu":
+            return cls(replace_paths(training, {"loop.steps": 500, "loop.checkpoint_every": 500}),
+                       replace_paths(recognizer, {"loop.steps": 200}))
+        return cls(training, recognizer)
 
 
 def fraction_of(data: MotionDataset, fraction: float, key: jax.Array) -> MotionDataset:
@@ -96,8 +98,8 @@ def fraction_of(data: MotionDataset, fraction: float, key: jax.Array) -> MotionD
 
 
 def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
-    real = load_actor_data(config.data, ctx.data_root)
-    train, test, training, spec = real["tr"], real["test"], config.training, config.recognizer
+    real = real_sets(config.data, ctx.data_root)
+    train, test, training, spec = real["train"], real["test"], config.training, config.recognizer
     rows: dict[str, dict[str, float]] = {REAL: {}, AUGMENTED: {}}
     for fraction in config.fractions:
         column = f"{100 * fraction:g}%"
@@ -105,11 +107,12 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
         if len(part) < max(training.batch_size, spec.batch_size):
             raise ValueError(f"fractions: {column} of {train.name} keeps {len(part)} clips, fewer than a batch "
                              f"(training.batch_size {training.batch_size}, recognizer.batch_size {spec.batch_size})")
-        params = train_actor(part, training, ctx.key("train"), str(ctx.workdir / slug(f"actor {column}")))
+        params = training.fit(part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"))
         labels = np.resize(part.actions, len(train))
-        generated = generate_motions(params, training, ctx.key("generate"), labels,
+        generated = generate_motions(params, training.model, ctx.key("generate"), labels,
                                      np.full(len(labels), training.window), train.skeleton,
                                      class_names=train.class_names, fps=train.fps, split="train")
+        ctx.export(generated, slug(f"generated {column}"))
         for row, data in ((REAL, part), (AUGMENTED, real_plus_generated(part, generated))):
             recognizer = train_recognizer(spec, ctx.workdir / "recognizers" / slug(f"{row} {column}"), data=data)
             rows[row][column] = 100 * evaluate_recognizer(recognizer, test, ctx.key("test"), window=spec.window,
@@ -121,7 +124,8 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
 
 
 def main(argv=None):
-    return experiment.main("actor_augmentation", ActorAugmentationConfig, run, argv, description=__doc__)
+    return experiment.main("actor_augmentation", ActorAugmentationConfig, run, argv, description=__doc__,
+                           claims=CLAIMS)
 
 
 if __name__ == "__main__":

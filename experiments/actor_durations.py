@@ -7,7 +7,7 @@ is scored with the ACTOR protocol at that duration (real windows of the same len
 the 60-frame UESTC recogniser: accuracy and FID per duration.
 
     python -m experiments.actor_durations                    # cpu profile on the embedded synth-uestc
-    python -m experiments.actor_durations --profile paper --data-root data/uestc --set data.name=uestc evaluator.dataset=uestc
+    python -m experiments.actor_durations --profile paper --data-root data/uestc --set table.data.name=uestc table.evaluator.dataset=uestc
 
 Reported (Figure 4, read from the caption and §4.2 only; the curves are not in the text): the fixed
 model is best at 60 frames and keeps over 85% accuracy from 40 to 120 frames; the fine-tuned model is
@@ -35,40 +35,33 @@ checkpoints of both models (``fixed-size/``, ``variable-size/``).
 from __future__ import annotations
 
 import dataclasses
-import shutil
-from collections.abc import Mapping, Sequence
-from pathlib import Path
 
-import jax
 import numpy as np
-from matplotlib.figure import Figure
 
-from experiments.actor_uestc import UESTC_EPOCH, ActorUestcConfig
 from jaxmotion import experiment
-from jaxmotion.data.motion import MotionDataset
-from jaxmotion.evaluation.actor_tables import (
-    ActorData,
-    evaluate_variants,
-    load_actor_data,
-    samplers_of,
-    slug,
-    train_variants,
-)
+from jaxmotion.config import replace_paths
+from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.recognizers import RecognizerTraining
-from jaxmotion.models.actor import AnyActorParams
-from jaxmotion.train.actor import ActorTraining, train_actor
+from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, slug, table_dataset
+from jaxmotion.train.actor import UESTC_EPOCH, ActorTraining, uestc_training
+from jaxmotion.viz import save_curves
 
 FIXED, VARIABLE = "Fixed-size", "Variable-size"
+
+
+# Figure 4: the variable-size model generates better than the fixed-size one away from 60 frames
+CLAIMS = (
+    Claim(VARIABLE, ">", FIXED, "Acc. (%) @100", "Figure 4: variable-length training helps long generations"),
+    Claim(VARIABLE, "<", FIXED, "FID_tr @100", "Figure 4: variable-length training helps long generations"),
+    Claim(VARIABLE, ">", FIXED, "Acc. (%) @120", "Figure 4: also past the 100 frames it was trained on"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
 class ActorDurationsConfig:
     training: ActorTraining  # the fixed-size model
     finetune_steps: int  # variable-length steps after the fixed run
-    evaluator: RecognizerTraining
-    protocol: ProtocolConfig  # its duration is set per column
-    data: ActorData = ActorData()
+    table: TableDataset  # the protocol's duration is set per column
     min_length: int = 60  # fine-tuning clips: U[min_length, min(n, max_length)] frames
     max_length: int = 100
     durations: tuple[int, ...] = tuple(range(40, 121, 5))
@@ -84,70 +77,41 @@ class ActorDurationsConfig:
 
     @classmethod
     def smoke(cls) -> ActorDurationsConfig:
-        base = ActorUestcConfig.smoke()
-        return cls(base.training, 2, base.evaluator, base.protocol, base.data, durations=(40, 80))
+        return cls(uestc_training("smoke"), 2, table_dataset("UESTC", "smoke"), durations=(40, 80))
 
     @classmethod
     def cpu(cls) -> ActorDurationsConfig:
-        base = ActorUestcConfig.cpu()
-        return cls(dataclasses.replace(base.training, steps=2000, checkpoint_every=500), 200, base.evaluator,
-                   dataclasses.replace(base.protocol, repetitions=3), base.data, durations=(40, 60, 80, 100, 120))
+        training = replace_paths(uestc_training("cpu"), {"loop.steps": 2000, "loop.checkpoint_every": 500})
+        table = table_dataset("UESTC", "cpu", cpu_protocol=ProtocolConfig(repetitions=3, max_real=1000))
+        return cls(training, 200, table, durations=(40, 60, 80, 100, 120))
 
     @classmethod
     def paper(cls) -> ActorDurationsConfig:
-        base = ActorUestcConfig.paper()
-        return cls(base.training, 100 * UESTC_EPOCH, base.evaluator, base.protocol, base.data)
+        return cls(uestc_training("paper"), 100 * UESTC_EPOCH, table_dataset("UESTC", "paper"))
 
     def variable(self) -> ActorTraining:
         """The fine-tune: the fixed training, on variable lengths, for ``finetune_steps`` more steps."""
-        return dataclasses.replace(self.training, min_length=self.min_length, window=self.max_length,
-                                   steps=self.training.steps + self.finetune_steps)
-
-
-def finetune_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: Path,
-                   pretrained: Path) -> AnyActorParams:
-    """Continue the finished run in ``pretrained`` with ``training`` in ``workdir`` (same ``key``, so the
-    data order goes on); returns the parameters. The fine-tune starts from a copy of that run's checkpoints,
-    so ``train_actor`` resumes it as its own (and an interrupted fine-tune resumes from its own)."""
-    checkpoints = workdir / "checkpoints"
-    if not checkpoints.exists():
-        partial = workdir / "checkpoints.copying"
-        shutil.rmtree(partial, ignore_errors=True)
-        shutil.copytree(pretrained / "checkpoints", partial)
-        partial.rename(checkpoints)  # whole or absent: an interrupted copy is made again
-    return train_actor(data, training, key, str(workdir))
-
-
-def save_curves(path: Path, x: Sequence[float], panels: Mapping[str, Mapping[str, Sequence[float]]], *,
-                xlabel: str, marks: Sequence[float] = ()) -> None:
-    """One panel per ``{y label: {curve label: values over x}}``, dashed vertical lines at ``marks``."""
-    fig = Figure(figsize=(4.5 * len(panels), 3.4))
-    for ax, (ylabel, curves) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels.items(), strict=True):
-        for label, values in curves.items():
-            ax.plot(x, values, marker="o", label=label)
-        for mark in marks:
-            ax.axvline(mark, color="grey", linestyle="--", linewidth=1)
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(ylabel)
-        ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+        return dataclasses.replace(replace_paths(self.training, {"loop.steps": self.training.loop.steps
+                                                                 + self.finetune_steps}),
+                                   min_length=self.min_length, window=self.max_length)
 
 
 def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
-    real = load_actor_data(config.data, ctx.data_root)
-    train = real["tr"]
-    variants = {FIXED: config.training, VARIABLE: config.variable()}
-    params = train_variants({FIXED: config.training}, train, ctx.key("train"), ctx.workdir)
-    params[VARIABLE] = finetune_actor(train, variants[VARIABLE], ctx.key("train"), ctx.workdir / slug(VARIABLE),
-                                      ctx.workdir / slug(FIXED))
-    samplers = samplers_of(params, variants, train)
+    real = real_sets(config.table.data, ctx.data_root)
+    train = real["train"]
+    fixed, variable = config.training, config.variable()
+    fixed_params = fixed.fit(train, ctx.key("train"), ctx.workdir / slug(FIXED))
+    # the fine-tune starts from the fixed run's last checkpoint (its parameters, AdamW moments and step), with
+    # the same key, so the data order goes on; an interrupted fine-tune resumes from its own checkpoints
+    variable_params = variable.fit(train, ctx.key("train"), ctx.workdir / slug(VARIABLE),
+                                   init_from=ctx.workdir / slug(FIXED))
+    samplers = {FIXED: fixed.sampler(fixed_params, train.skeleton),
+                VARIABLE: variable.sampler(variable_params, train.skeleton)}
     rows: dict[str, dict[str, np.ndarray]] = {}
     for duration in config.durations:
-        protocol = dataclasses.replace(config.protocol, duration=duration)
-        scores = evaluate_variants(ctx.key("eval"), samplers, real, config.evaluator, protocol,
-                                   data_root=ctx.data_root)
+        protocol = dataclasses.replace(config.table.protocol, duration=duration)
+        scores = paper_columns(score_rows(ctx.key("eval"), samplers, real, config.table.evaluator, protocol,
+                                          data_root=ctx.data_root))
         for row, cells in scores.items():
             rows.setdefault(row, {}).update({f"Acc. (%) @{duration}": cells["Acc. (%)"],
                                              f"FID_tr @{duration}": cells["FID_tr"]})
@@ -159,7 +123,7 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
 
 
 def main(argv=None):
-    return experiment.main("actor_durations", ActorDurationsConfig, run, argv, description=__doc__)
+    return experiment.main("actor_durations", ActorDurationsConfig, run, argv, description=__doc__, claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@ import functools
 import json
 import types
 import typing
+from collections.abc import Mapping
 from typing import Any, Literal, Union
 
 PROFILES = ("smoke", "cpu", "paper")
@@ -81,6 +82,21 @@ def apply_overrides(config: Any, overrides: list[str] | tuple[str, ...]) -> Any:
             raise ConfigError(f"unknown config field {path!r}; valid fields: {', '.join(valid)}")
         config = _replace_path(config, path.split("."), raw.strip(), path)
     return config
+
+
+def replace_paths(config: Any, changes: Mapping[str, Any]) -> Any:
+    """``dataclasses.replace`` through dotted field paths, with Python values (no parsing):
+    ``replace_paths(training, {"loop.steps": 500, "losses.kl": 1e-4})``. An unknown path is an error."""
+    for path, value in changes.items():
+        config = _replace_value(config, path.split("."), value, path)
+    return config
+
+
+def _replace_value(obj: Any, parts: list[str], value: Any, full: str) -> Any:
+    if not dataclasses.is_dataclass(obj) or parts[0] not in {f.name for f in dataclasses.fields(obj)}:
+        raise ConfigError(f"{full!r}: {type(obj).__name__} has no field {parts[0]!r}")
+    inner = _replace_value(getattr(obj, parts[0]), parts[1:], value, full) if len(parts) > 1 else value
+    return dataclasses.replace(obj, **{parts[0]: inner})
 
 
 def diff(a: dict[str, Any], b: dict[str, Any], prefix: str = "") -> list[str]:

@@ -24,13 +24,19 @@ import sys
 import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import jax
 import numpy as np
 
 from jaxmotion import config as cfglib
+from jaxmotion import provenance
+from jaxmotion.data.export import FORMATS as EXPORT_FORMATS
+from jaxmotion.data.export import export_motions
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
+from jaxmotion.evaluation.tables import run_table
 from jaxmotion.evaluation.table import format_table
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
@@ -49,6 +55,7 @@ class RunContext:
     seed: int
     workdir: Path
     data_root: str | None = None
+    export_formats: tuple[str, ...] = ()  # --export: formats of jaxmotion.data.export for generated motions
 
     def key(self, stream: str) -> jax.Array:
         """An independent PRNG key per named stream (``"init"``, ``"train"``, ``"eval"``, ...).
@@ -57,8 +64,18 @@ class RunContext:
         """
         return jax.random.fold_in(jax.random.key(self.seed), zlib.crc32(stream.encode()))
 
+    def export(self, motions: MotionDataset, name: str = "generated") -> MotionDataset:
+        """Write generated ``motions`` to ``<workdir>/export/<name>/`` in the ``--export`` formats (none: do
+        nothing); return them, so a call can wrap the expression that makes them."""
+        if self.export_formats:
+            paths = export_motions(self.workdir / "export" / name, motions, formats=self.export_formats)
+            print(f"[{self.experiment}] exported {len(motions)} motions as {', '.join(self.export_formats)} "
+                  f"({len(paths)} files) to {self.workdir / 'export' / name}", file=sys.stderr)
+        return motions
+
     def record(self, config: Any) -> dict[str, Any]:
-        """Everything that determines this run's results, as written to ``config.json``."""
+        """What determines this run's results, as written to ``config.json`` (the runner adds the inputs:
+        datasets and evaluators, :func:`jaxmotion.provenance.inputs`)."""
         return {
             "experiment": self.experiment,
             "profile": self.profile,
@@ -66,6 +83,7 @@ class RunContext:
             "data_root": self.data_root,
             "config_class": f"{type(config).__module__}.{type(config).__qualname__}",
             "config": cfglib.to_dict(config),
+            "environment": provenance.environment(),
         }
 
 
@@ -90,22 +108,62 @@ class ProfileConfig:
         return cls.for_profile("paper")
 
 
+class Sweep(ProfileConfig):
+    """Base of an experiment that sweeps one field of a training over values, a table row per value (ACTOR's
+    appendix ablations). A subclass is a frozen dataclass with the fields ``training`` (the recipe each row
+    varies), ``table`` (a :class:`~jaxmotion.evaluation.tables.TableDataset`) and ``values``, and sets
+    ``FIELD`` (a dotted path into the training), ``SMOKE_VALUES`` (the smoke profile's values) and ``SETUP``
+    (profile -> ``(training, table)``); ``label(value)`` names a row. Run it with :func:`run_sweep`."""
+
+    FIELD: ClassVar[str]
+    SMOKE_VALUES: ClassVar[tuple[Any, ...]]
+    SETUP: ClassVar[Callable[[str], tuple[Any, Any]]]
+
+    def __post_init__(self):
+        if not self.values:
+            raise ValueError(f"values: expected at least one value of {self.FIELD}")
+
+    @classmethod
+    def for_profile(cls, profile: str):
+        training, table = cls.SETUP(profile)
+        return cls(training, table, cls.SMOKE_VALUES) if profile == "smoke" else cls(training, table)
+
+    def label(self, value) -> str:
+        return f"{self.FIELD} = {value}"
+
+    def rows(self) -> dict[str, Any]:
+        return {self.label(value): cfglib.replace_paths(self.training, {self.FIELD: value}) for value in self.values}
+
+
+def run_sweep(config: Sweep, ctx: RunContext) -> Rows:
+    """A :class:`Sweep`'s table: every row trained from the ``"train"`` key and scored from ``"eval"``."""
+    return run_table(config.rows(), config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
+                     eval_key=ctx.key("eval"), data_root=ctx.data_root)
+
+
 RunFn = Callable[[Any, RunContext], Rows]
 
 
 def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
-             data_root: str | None = None) -> dict[str, Any]:
+             data_root: str | None = None, claims: Sequence[Claim] = (),
+             export_formats: Sequence[str] = ()) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
-    ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root)
+    ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root,
+                     tuple(export_formats))
     ctx.workdir.mkdir(parents=True, exist_ok=True)
-    record = ctx.record(config)
+    record = {**ctx.record(config), "inputs": provenance.inputs(config, data_root)}
     config_path, metrics_path = ctx.workdir / "config.json", ctx.workdir / "metrics.json"
     if config_path.exists():
         previous = json.loads(config_path.read_text())
-        changes = cfglib.diff(previous, record)
+        # the software and machine are recorded, not compared: a resumed run may move to a patched checkout
+        changes = cfglib.diff({k: v for k, v in previous.items() if k != "environment"},
+                              {k: v for k, v in record.items() if k != "environment"})
+        moved = cfglib.diff(previous.get("environment", {}), record["environment"])
+        if moved and not changes:
+            print(f"[{name}] seed {seed}: resuming in another environment:\n  " + "\n  ".join(moved), file=sys.stderr)
         if changes:
             raise RunConflictError(
-                f"{ctx.workdir} holds a run with a different config; refusing to resume it.\n  "
+                f"{ctx.workdir} holds a run with a different config or inputs; refusing to resume it.\n  "
                 + "\n  ".join(changes)
                 + "\nUse another --out, or delete that folder to start over."
             )
@@ -116,22 +174,32 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
         config_path.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
     print(f"[{name}] {profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
-    return write_results(ctx.workdir, rows, f"{name} ({profile}, seed {seed})")
+    return write_results(ctx.workdir, rows, f"{name} ({profile}, seed {seed})", claims,
+                         run={"environment": record["environment"],
+                              "evaluators": provenance.evaluators(config, data_root)})
 
 
-def write_results(folder: str | Path, rows: Rows, title: str) -> dict[str, Any]:
-    """Write ``rows`` as ``table.md`` (mean ± 95% CI for repeated cells) and ``metrics.json`` (every value,
-    with its summary) in ``folder``; return the ``metrics.json`` content. ``metrics.json`` is written last:
-    in an experiment's seed folder its presence marks the seed as finished."""
+def write_results(folder: str | Path, rows: Rows, title: str, claims: Sequence[Claim] = (), *,
+                  run: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Write ``rows`` as ``table.md`` (mean ± 95% CI for repeated cells, then every claim checked) and
+    ``metrics.json`` (every value with its summary, the claims' verdicts with their numbers, and ``run``:
+    the environment and the evaluators used, with their cache keys and held-out accuracy) in ``folder``;
+    return the ``metrics.json`` content. ``metrics.json`` is written last: in an experiment's seed folder its presence
+    marks the seed as finished."""
     folder = Path(folder)
-    metrics = {"rows": {row: {col: _cell_json(v) for col, v in cells.items()} for row, cells in rows.items()}}
-    (folder / "table.md").write_text(format_table(_table_cells(metrics), title=title))
+    metrics: dict[str, Any] = {"rows": {row: {col: _cell_json(v) for col, v in cells.items()}
+                                        for row, cells in rows.items()}}
+    metrics["claims"] = check_all(claims, metrics["rows"])
+    if run is not None:
+        metrics["run"] = dict(run)
+    (folder / "table.md").write_text(format_table(_table_cells(metrics), title=title) + format_claims(metrics["claims"]))
     (folder / "metrics.json").write_text(json.dumps(metrics, indent=2, sort_keys=True) + "\n")
     return metrics
 
 
-def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]]) -> dict[str, Any]:
-    """Mean ± 95% CI over seeds of each cell's per-seed value (its mean, for repeated cells)."""
+def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]], claims: Sequence[Claim] = ()) -> dict[str, Any]:
+    """Mean ± 95% CI over seeds of each cell's per-seed value (its mean, for repeated cells); the claims
+    checked on those intervals."""
     seeds = sorted(per_seed)
     first = per_seed[seeds[0]]["rows"]
     rows = {}
@@ -140,12 +208,13 @@ def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]]) -> dict[str, Any]
         for col in cells:
             values = [_cell_mean(per_seed[s]["rows"][row][col]) for s in seeds]
             rows[row][col] = {**summarize(values).to_dict(), "per_seed": values}
-    return {"seeds": seeds, "rows": rows}
+    return {"seeds": seeds, "rows": rows, "claims": check_all(claims, rows)}
 
 
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
-         description: str | None = None) -> dict[str, Any]:
-    """The command line every experiment shares; returns the final metrics (summary for several seeds)."""
+         description: str | None = None, claims: Sequence[Claim] = ()) -> dict[str, Any]:
+    """The command line every experiment shares; returns the final metrics (summary for several seeds).
+    ``claims``: what the paper claims from this table (checked on every run, written with the table)."""
     check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
     try:
@@ -160,16 +229,19 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     for seed in seeds:
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
-                                      data_root=args.data_root)
+                                      data_root=args.data_root, claims=claims,
+                                      export_formats=_parse_formats(args.export))
         except RunConflictError as err:
             raise SystemExit(f"{name}: {err}") from None
     if len(seeds) == 1:
         result = per_seed[seeds[0]]
-        print(format_table(_table_cells(result), title=f"{name} ({args.profile}, seed {seeds[0]})"))
+        print(format_table(_table_cells(result), title=f"{name} ({args.profile}, seed {seeds[0]})")
+              + format_claims(result.get("claims", [])))
         return result
-    summary = aggregate_seeds(per_seed)
+    summary = aggregate_seeds(per_seed, claims)
     folder = Path(args.out) / name / args.profile
-    table = format_table(_table_cells(summary), title=f"{name} ({args.profile}, seeds {_seed_list(seeds)}; mean ± 95% CI)")
+    table = (format_table(_table_cells(summary), title=f"{name} ({args.profile}, seeds {_seed_list(seeds)}; mean ± 95% CI)")
+             + format_claims(summary["claims"]))
     (folder / "table.md").write_text(table)
     (folder / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n")
     print(table)
@@ -201,8 +273,20 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
     p.add_argument("--data-root", help="folder with the real dataset files (default: the embedded dataset)")
     p.add_argument("--set", action="extend", nargs="+", default=[], metavar="FIELD=VALUE",
                    help="override config fields, e.g. --set train.steps=500 model.layers=4")
+    p.add_argument("--export", default="", metavar="FORMATS",
+                   help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
+                        "under <seed folder>/export/")
     p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
     return p
+
+
+def _parse_formats(text: str) -> tuple[str, ...]:
+    formats = tuple(f.strip() for f in text.split(",") if f.strip())
+    unknown = [f for f in formats if f not in EXPORT_FORMATS]
+    if unknown:
+        raise SystemExit(f"--export: unknown formats {unknown}; expected a comma-separated subset of "
+                         f"{','.join(EXPORT_FORMATS)}")
+    return formats
 
 
 def _parse_seeds(text: str) -> list[int]:

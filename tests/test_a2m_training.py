@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 from jaxmotion.data.motion import SKELETONS, Motion, pack
-from jaxmotion.models.a2m import A2MTrainConfig, A2MVAEConfig
-from jaxmotion.train.a2m import A2MTraining, a2m_sampler, train_a2m
+from jaxmotion.models.a2m import A2MVAEConfig
+from jaxmotion.pipelines.a2m import a2m_sampler
+from jaxmotion.train.a2m import A2MTraining, train_a2m
+from jaxmotion.train.loop import LoopConfig
 
 SMPL24 = SKELETONS["SMPL-24 (HumanAct12)"]
 CLASSES = 3
@@ -25,12 +27,11 @@ def _data():
     return pack(motions, name="toy", split="train", class_names=("a", "b", "c"), skeleton=SMPL24, fps=20)
 
 
-def _training(iterations):
+def _training(steps):
     # one GRU cell per net: compilation dominates the test's time
     return A2MTraining(A2MVAEConfig(pose_dim=72, num_classes=CLASSES, kl_weight=1e-4, hidden=8, latent=4,
                                     decoder_layers=1),
-                       A2MTrainConfig(batch_size=4, iterations=iterations, frames=10), log_every=2,
-                       checkpoint_every=2)
+                       LoopConfig(steps, log_every=2, checkpoint_every=2), batch_size=4, window=10)
 
 
 def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_protocol_motions(tmp_path):
@@ -43,7 +44,7 @@ def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_prot
     for a, b in zip(jax.tree.leaves(straight), jax.tree.leaves(resumed), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
-    sampler = a2m_sampler(resumed, _training(4), SMPL24)
+    sampler = _training(4).sampler(resumed, SMPL24)
     motions = sampler(jax.random.key(1), np.array([0, 2, 1]), np.array([7, 5, 7]))
     assert motions["joints"].shape == (3, 7, 24, 3) and motions["translation"].shape == (3, 7, 3)
     assert np.isfinite(motions["joints"]).all()
@@ -59,7 +60,7 @@ def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_prot
 
 def test_mismatched_model_and_data_raise():
     with pytest.raises(ValueError, match="pose_dim 72"):
-        train_a2m(_data(), A2MTraining(A2MVAEConfig(pose_dim=72, num_classes=5, kl_weight=0.0),
-                                       A2MTrainConfig(iterations=1)), jax.random.key(0))
+        train_a2m(_data(), A2MTraining(A2MVAEConfig(pose_dim=72, num_classes=5, kl_weight=0.0), LoopConfig(1)),
+                  jax.random.key(0))
     with pytest.raises(ValueError, match="pose_dim 60"):
-        a2m_sampler(None, A2MTraining(A2MVAEConfig(pose_dim=60, num_classes=3, kl_weight=0.0)), SMPL24)
+        a2m_sampler(None, A2MVAEConfig(pose_dim=60, num_classes=3, kl_weight=0.0), SMPL24)

@@ -10,7 +10,7 @@ import optax
 import pytest
 
 from jaxmotion.models.a2m import (
-    A2MTrainConfig,
+    A2MOptimizer,
     A2MVAEConfig,
     _feedback_draws,
     a2m_generate,
@@ -70,8 +70,8 @@ def test_bad_shapes_raise(params):
         a2m_generate(params, jax.random.key(0), actions[:, None], 4, CFG)
     with pytest.raises(ValueError, match="num_frames"):
         a2m_generate(params, jax.random.key(0), actions, 0, CFG)
-    with pytest.raises(ValueError, match="teacher_forcing"):
-        A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=0.0, teacher_forcing=1.5)
+    with pytest.raises(ValueError, match="own_output_feedback"):
+        A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=0.0, own_output_feedback=1.5)
 
 
 def test_gaussian_kl_hand_values_and_zero_when_posterior_is_prior(params):
@@ -111,9 +111,9 @@ def test_loss_normalisation_matches_the_reference_formula(params):
 
 
 def test_causality_with_ground_truth_feedback(params):
-    """teacher_forcing = 0 (x_prev is always the ground truth): the decoded frame t depends on poses ≤ t only
+    """own_output_feedback = 0 (x_prev is always the ground truth): decoded frame t depends on poses ≤ t only
     (t − 1 through x_prev, t through the posterior sample); the prior at t on poses < t only."""
-    cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4, teacher_forcing=0.0)
+    cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4, own_output_feedback=0.0)
     poses, actions = _data(7, b=1, t=5)
 
     def outputs(p):
@@ -136,13 +136,13 @@ def test_causality_with_ground_truth_feedback(params):
 
 
 def test_feedback_quirk(params):
-    # The draw: teacher_forcing is the probability of feeding back the model's OWN output. "sequence" (the
+    # The draw: own_output_feedback is the probability of feeding back the model's OWN output. "sequence" (the
     # authors' code) is one draw per call for all frames; "step" draws per frame.
     keys = jax.random.split(jax.random.key(9), 400)
     seq = np.asarray(jax.vmap(lambda k: _feedback_draws(k, CFG, 6))(keys))
     assert (seq.all(1) | ~seq.any(1)).all()
     assert abs(seq[:, 0].mean() - 0.6) < 0.08
-    step_cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, teacher_forcing_scope="step")
+    step_cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, feedback_scope="step")
     step = np.asarray(jax.vmap(lambda k: _feedback_draws(k, step_cfg, 6))(keys))
     assert (step.any(1) & ~step.all(1)).any() and abs(step.mean() - 0.6) < 0.05
 
@@ -153,7 +153,7 @@ def test_feedback_quirk(params):
         embed=post.embed._replace(weight=post.embed.weight.at[:, :F].set(0.0))))
     poses, actions = _data(10, b=1, t=4)
     for ratio, depends in ((1.0, False), (0.0, True)):
-        cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4, teacher_forcing=ratio)
+        cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4, own_output_feedback=ratio)
         grad = jax.grad(lambda p: a2m_vae_forward(blind, jax.random.key(11), p, actions, cfg)["recon"].sum())(poses)
         assert (np.abs(np.asarray(grad)).max() > 0) == depends, ratio
 
@@ -207,8 +207,8 @@ def test_paper_parameter_count_and_optimizer():
 
     # torch Adam(weight_decay) = L2 on the gradient before the moments: on a zero gradient the first step
     # still moves a parameter by ≈ lr (Adam normalises the decay term), against the sign of the parameter.
-    tc = A2MTrainConfig()
-    assert (tc.learning_rate, tc.weight_decay, tc.batch_size, tc.iterations) == (2e-4, 1e-5, 128, 50_000)
+    tc = A2MOptimizer()
+    assert (tc.learning_rate, tc.weight_decay) == (2e-4, 1e-5)
     opt = a2m_optimizer(tc)
     p = {"w": jnp.asarray([2.0, -3.0])}
     updates, _ = opt.update({"w": jnp.zeros(2)}, opt.init(p), p)

@@ -7,7 +7,7 @@ import pytest
 
 from jaxmotion.models.actor import ActorConfig, autoencode, decode, encode, generate, init_actor, length_mask
 
-TINY = ActorConfig(num_classes=3, latent=16, ff=32, layers=2, heads=4)
+TINY = ActorConfig(num_classes=3, width=16, ff=32, layers=2, heads=4)
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +30,7 @@ def test_padded_frames_neither_reach_the_latent_nor_leave_the_decoder(tiny):
 
 def test_each_sequence_is_decoded_independently_of_the_rest_of_the_batch(tiny):
     params, _, actions, mask = tiny
-    z = jax.random.normal(jax.random.key(2), (2, TINY.latent))
+    z = jax.random.normal(jax.random.key(2), (2, TINY.width))
     both = decode(params, TINY, z, actions, mask)
     alone = decode(params, TINY, z[1:], actions[1:], mask[1:])
     np.testing.assert_allclose(np.asarray(alone[0]), np.asarray(both[1]), atol=1e-5)
@@ -59,7 +59,7 @@ def test_dropout_only_in_training(tiny):
 @pytest.mark.parametrize(("tokens", "bias"), [(False, True), (True, False), (False, False)])
 def test_table2_ablations_build_and_run(tiny, tokens, bias):
     _, x, actions, mask = tiny
-    config = ActorConfig(num_classes=3, latent=16, ff=32, layers=2, heads=4, distribution_tokens=tokens,
+    config = ActorConfig(num_classes=3, width=16, ff=32, layers=2, heads=4, distribution_tokens=tokens,
                          bias_token=bias)
     params = init_actor(jax.random.key(6), config)
     assert (params.encoder.mu_query is None) != tokens and (params.decoder.action_biases is None) != bias

@@ -30,7 +30,7 @@ MASK = length_mask(jnp.array([FRAMES, 5]), FRAMES)  # row 1 has 3 padded frames
 @functools.cache
 def config(architecture: str, dropout: float = 0.0) -> ActorConfig:
     # Dropout off by default; test_autoregressive_dropout_runs_only_with_a_key and test_actor.py cover it.
-    return ActorConfig(num_classes=3, latent=16, ff=32, layers=2, heads=4, dropout=dropout,
+    return ActorConfig(num_classes=3, width=16, ff=32, layers=2, heads=4, dropout=dropout,
                        architecture=architecture, frames=FRAMES)
 
 
@@ -194,7 +194,7 @@ def test_config_names_the_field_for_unknown_architectures_and_misplaced_switches
         ActorConfig(num_classes=3, architecture="gru", bias_token=False)
     with pytest.raises(ValueError, match=r"ActorConfig.frames must be >= 1"):
         ActorConfig(num_classes=3, architecture="fc", frames=0)
-    ActorConfig(num_classes=3, latent=10, architecture="gru")  # heads must divide latent for attention only
+    ActorConfig(num_classes=3, width=10, architecture="gru")  # heads must divide width for attention only
 
 
 def test_parameters_of_another_architecture_and_stray_targets_are_rejected():

@@ -7,11 +7,11 @@ import pytest
 
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.pipelines.actor import actor_sampler
 from jaxmotion.train.actor import ActorTraining, train_actor
+from jaxmotion.train.loop import LoopConfig
 
-TINY = ActorTraining(ActorConfig(num_classes=12, latent=16, ff=32, layers=1, heads=2), steps=4, batch_size=8,
-                     window=20, log_every=2, checkpoint_every=2)
+TINY = ActorTraining(ActorConfig(num_classes=12, width=16, ff=32, layers=1, heads=2),
+                     LoopConfig(4, log_every=2, checkpoint_every=2), batch_size=8, window=20)
 
 
 @pytest.mark.slow
@@ -22,7 +22,7 @@ def test_training_resumes_and_the_sampler_returns_library_motions(tmp_path):
     for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(again), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
-    sampler = actor_sampler(params, TINY, data.skeleton)
+    sampler = TINY.sampler(params, data.skeleton)
     motions = sampler(jax.random.key(1), jnp.array([0, 5, 11]), jnp.array([12, 8, 12]))
     assert motions["joints"].shape == (3, 12, 24, 3) and motions["rotations"].shape == (3, 12, 24, 3)
     np.testing.assert_array_equal(np.asarray(motions["lengths"]), [12, 8, 12])
@@ -32,7 +32,7 @@ def test_training_resumes_and_the_sampler_returns_library_motions(tmp_path):
     assert np.isfinite(np.asarray(motions["joints"])).all()
 
 
-def test_training_config_rejects_a_representation_the_model_cannot_hold():
-    with pytest.raises(ValueError, match="rep 'quaternion' has 4 channels"):
-        ActorTraining(ActorConfig(num_classes=12), steps=1, rep="quaternion")
+def test_the_model_config_carries_its_representation_and_channels():
+    assert ActorConfig(num_classes=12, rep="quaternion").channels == 4
+    assert ActorConfig(num_classes=12).features == 25 * 6
 

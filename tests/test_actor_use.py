@@ -17,10 +17,9 @@ from jaxmotion.pipelines.actor import (
     interpolate,
     noisy,
 )
-from jaxmotion.train.actor import ActorTraining
 
 WINDOW = 24
-TRAINING = ActorTraining(ActorConfig(num_classes=2, latent=16, ff=32, layers=1, heads=2), steps=1, window=WINDOW)
+MODEL = ActorConfig(num_classes=2, width=16, ff=32, layers=1, heads=2)
 
 
 def fk(rotations, translation):
@@ -56,31 +55,31 @@ def smooth_dataset(count=6):
 @pytest.fixture(scope="module")
 def setup():
     data = smooth_dataset()
-    params = jax.jit(init_actor, static_argnums=1)(jax.random.key(0), TRAINING.model)
+    params = jax.jit(init_actor, static_argnums=1)(jax.random.key(0), MODEL)
     windows = gather_windows(data, np.arange(len(data)), jax.random.key(1), BatchSpec(batch_size=1, window=WINDOW))
-    return data, params, windows, denoise(params, TRAINING, windows, SMPL24)
+    return data, params, windows, denoise(params, MODEL, windows, SMPL24)
 
 
 def test_generated_motions_have_their_own_lengths_and_joints_are_fk(setup):
     _, params, _, _ = setup
     actions, durations = np.array([0, 1, 1, 0, 1]), np.array([5, 12, 9, 12, 3])
-    out = generate_motions(params, TRAINING, jax.random.key(2), actions, durations, SMPL24, chunk=2)
+    out = generate_motions(params, MODEL, jax.random.key(2), actions, durations, SMPL24, chunk=2)
     np.testing.assert_array_equal(out.lengths, durations)
     np.testing.assert_array_equal(out.actions, actions)
     assert out.joints.shape == (durations.sum(), 24, 3) and out.class_names == ("0", "1")
     np.testing.assert_allclose(out.joints, fk(out.rotations, out.translation), atol=1e-4)
     # row n's noise comes from fold_in(key, n): neither the chunk size nor the row count changes a row
-    prefix = generate_motions(params, TRAINING, jax.random.key(2), actions[:2], durations[:2], SMPL24, chunk=2)
+    prefix = generate_motions(params, MODEL, jax.random.key(2), actions[:2], durations[:2], SMPL24, chunk=2)
     np.testing.assert_allclose(prefix.rotations, out.rotations[:prefix.joints.shape[0]], atol=1e-5)
     with pytest.raises(ValueError, match="durations: expected"):
-        generate_motions(params, TRAINING, jax.random.key(2), actions, durations[:3], SMPL24)
+        generate_motions(params, MODEL, jax.random.key(2), actions, durations[:3], SMPL24)
     with pytest.raises(ValueError, match="actions: expected class indices"):
-        generate_motions(params, TRAINING, jax.random.key(2), actions + 1, durations, SMPL24)
+        generate_motions(params, MODEL, jax.random.key(2), actions + 1, durations, SMPL24)
 
 
 def test_denoise_is_deterministic_without_a_key_and_keeps_lengths_and_padding(setup):
     _, params, windows, first = setup
-    second = denoise(params, TRAINING, windows, SMPL24, chunk=6)
+    second = denoise(params, MODEL, windows, SMPL24, chunk=6)
     np.testing.assert_array_equal(first["joints"], second["joints"])
     np.testing.assert_array_equal(first["lengths"], windows["lengths"])
     np.testing.assert_array_equal(first["mask"], windows["mask"])
@@ -90,16 +89,16 @@ def test_denoise_is_deterministic_without_a_key_and_keeps_lengths_and_padding(se
     assert n < WINDOW  # padded like the input: the last real frame repeated
     np.testing.assert_array_equal(first["joints"][0, n:], np.broadcast_to(first["joints"][0, n - 1], (WINDOW - n, 24, 3)))
     np.testing.assert_allclose(first["joints"], fk(first["rotations"], first["translation"]), atol=1e-4)
-    sampled = denoise(params, TRAINING, windows, SMPL24, key=jax.random.key(3))
+    sampled = denoise(params, MODEL, windows, SMPL24, key=jax.random.key(3))
     assert not np.allclose(sampled["rotations"], first["rotations"], atol=1e-4)
     with pytest.raises(ValueError, match=r"motions\['rotations'\]: expected \[B, T, 24, 3\]"):
-        denoise(params, TRAINING, {**windows, "rotations": windows["rotations"][:, :, :5]}, SMPL24)
+        denoise(params, MODEL, {**windows, "rotations": windows["rotations"][:, :, :5]}, SMPL24)
 
 
 def test_interpolation_endpoints_decode_the_endpoints_posterior_means(setup):
     data, params, _, denoised = setup
     a, b = 0, 2  # same action; both shorter than the window, so their windows are the whole motions
-    out = interpolate(params, TRAINING, data[a], data[b], steps=5, skeleton=SMPL24)
+    out = interpolate(params, MODEL, data[a], data[b], steps=5, skeleton=SMPL24, window=WINDOW)
     ends = {k: v[[a, b]] for k, v in denoised.items()}
     n_a, n_b = data.lengths[[a, b]]
     np.testing.assert_array_equal(out["lengths"], np.round(np.linspace(n_a, n_b, 5)))
@@ -126,7 +125,7 @@ def test_noisy_perturbs_rotations_only_on_demand_and_raises_jitter(setup):
 def test_generation_grid_writes_a_gif(setup, tmp_path):
     _, params, _, _ = setup
     path = tmp_path / "generated.gif"
-    data = generation_grid(params, TRAINING, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2,
+    data = generation_grid(params, MODEL, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2,
                            duration=4)
     assert path.stat().st_size > 0 and path.read_bytes()[:3] == b"GIF"
     np.testing.assert_array_equal(data.actions, [0, 0, 1, 1])
@@ -143,7 +142,7 @@ def test_frame_noise_reaches_the_denoised_output_only_through_the_latent(setup):
     jitter = {}
     for sigma in (0.0, 0.2):
         rough = noisy(jax.random.key(6), windows, sigma, SMPL24)
-        out = denoise(params, TRAINING, rough, SMPL24)
+        out = denoise(params, MODEL, rough, SMPL24)
         jitter[sigma] = [float(mean_acceleration(jnp.asarray(m["joints"]), mask)) for m in (rough, out)]
     added_in, added_out = jitter[0.2][0] - jitter[0.0][0], abs(jitter[0.2][1] - jitter[0.0][1])
     assert added_in > 0.1  # metres per frame²: the noise is large

@@ -2,11 +2,28 @@
 
 import json
 
+import numpy as np
 import pytest
 
-from experiments import actor_ablation_batch, actor_ablation_kl, actor_ablation_layers, actor_ablation_rotation, actor_uestc
+from experiments import (
+    actor_ablation_batch,
+    actor_ablation_kl,
+    actor_ablation_layers,
+    actor_ablation_rotation,
+    actor_uestc,
+)
+from jaxmotion.train.actor import ActorTraining
 
 COLUMNS = ["FID_tr", "FID_test", "Acc. (%)", "Div.", "Multimod."]
+
+
+def assert_generations_vary(rows, row, prefix=""):
+    """What a constant or collapsed sampler cannot pass, even untrained: its motions differ from each other
+    (diversity a real fraction of the data's) and within a class (multimodality above zero)."""
+    cells, real = rows[row], rows["Real"]
+    assert cells[f"{prefix}Div."]["mean"] > 0.05 * real[f"{prefix}Div."]["mean"], f"{row}: generations do not vary"
+    assert cells[f"{prefix}Multimod."]["mean"] > 0, f"{row}: generations of one class do not vary"
+    assert np.isfinite(cells[f"{prefix}FID_tr"]["mean"])
 
 
 @pytest.fixture(scope="module")
@@ -22,10 +39,37 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(tmp_pa
     rows = result["rows"]
     assert list(rows) == ["ACTOR", "Real", "Real (reported)", "ACTOR (reported)"]
     assert list(rows["ACTOR"]) == COLUMNS
-    assert rows["ACTOR"]["FID_tr"]["n"] == actor_uestc.ActorUestcConfig.smoke().protocol.repetitions
+    assert rows["ACTOR"]["FID_tr"]["n"] == actor_uestc.ActorUestcConfig.smoke().table.protocol.repetitions
+    assert_generations_vary(rows, "ACTOR")
     folder = tmp_path / "out" / "actor_uestc" / "smoke" / "seed-0"
     assert (folder / "generated.gif").stat().st_size > 0
     assert json.loads((folder / "metrics.json").read_text()) == result
+    assert [c["claim"] for c in result["claims"]] == [str(c) for c in actor_uestc.CLAIMS]
+    assert all(c["verdict"] in ("holds", "does not hold", "inconclusive") for c in result["claims"])
+    assert "Claims of the paper" in (folder / "table.md").read_text()
+    record = json.loads((folder / "config.json").read_text())
+    assert record["environment"]["jax"] and record["inputs"]["evaluators"][0]["name"] == "synth-uestc/stgcn"
+    assert 0 <= result["run"]["evaluators"][0]["held_out_accuracy"] <= 1
+
+
+@pytest.mark.slow
+def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, cache):
+    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
+    real_sampler = ActorTraining.sampler
+
+    def constant(self, params, skeleton):
+        sample = real_sampler(self, params, skeleton)
+
+        def same_motion(key, actions, durations):
+            motions = dict(sample(key, actions * 0, durations))
+            return {k: np.broadcast_to(np.asarray(v)[:1], np.shape(v)) for k, v in motions.items()}
+
+        return same_motion
+
+    monkeypatch.setattr(ActorTraining, "sampler", constant)
+    rows = actor_uestc.main(["--profile", "smoke", "--out", str(tmp_path)])["rows"]
+    with pytest.raises(AssertionError, match="do not vary"):
+        assert_generations_vary(rows, "ACTOR")
 
 
 @pytest.mark.slow
@@ -36,8 +80,11 @@ def test_appendix_ablation_smoke_has_one_row_per_value_and_the_real_row(tmp_path
     result = module.main(["--profile", "smoke", "--out", str(tmp_path)])
     config = next(c for c in vars(module).values() if isinstance(c, type) and hasattr(c, "SMOKE_VALUES")
                   and c.__module__ == module.__name__).smoke()
-    assert list(result["rows"]) == [*config.variants(), "Real"]
+    assert list(result["rows"]) == [*config.rows(), "Real"]
     assert all(list(cells) == COLUMNS for cells in result["rows"].values())
+    for row in config.rows():
+        assert_generations_vary(result["rows"], row)
+    assert len(result["claims"]) == len(module.CLAIMS)
     # each row trained in its own folder
     workdir = tmp_path / module.__name__.split(".")[-1] / "smoke" / "seed-0"
     assert len([p for p in workdir.iterdir() if (p / "checkpoints").is_dir()]) == len(config.values)

@@ -1,9 +1,10 @@
 """ACTOR's Tables 1-3 run end to end in their smoke profiles, laid out as the paper lays them out."""
 
 import pytest
+from test_experiments_actor import assert_generations_vary
 
 from experiments import actor_architecture, actor_losses, actor_sota
-from jaxmotion.evaluation.actor_tables import reported_row, side_by_side
+from jaxmotion.evaluation.tables import reported_row, side_by_side
 
 UESTC = ["UESTC FID_tr", "UESTC FID_test", "UESTC Acc. (%)", "UESTC Div.", "UESTC Multimod."]
 NTU13 = ["NTU-13 FID_tr", "NTU-13 Acc. (%)", "NTU-13 Div.", "NTU-13 Multimod."]
@@ -31,6 +32,9 @@ def test_losses_table_has_the_paper_rows_and_no_numbers_for_the_vertex_losses(tm
     for name in ("Real", "L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"):
         assert list(rows[name]) == UESTC + NTU13
         assert rows[name]["UESTC FID_test"]["n"] == actor_losses.ActorLossesConfig.smoke().uestc.protocol.repetitions
+    for name in ("L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"):
+        for prefix in ("UESTC ", "NTU-13 "):
+            assert_generations_vary(rows, name, prefix)
     assert all(rows[name] == {} for name in not_run)
     # the paper prints "3M*" / "4M*", not numbers, for the coordinate losses' UESTC FIDs
     assert "UESTC FID_tr" not in rows["L_V (reported)"] and rows["L_V (reported)"]["NTU-13 FID_tr"] == 0.25
@@ -43,6 +47,8 @@ def test_architecture_table_has_one_row_per_architecture(tmp_path, monkeypatch, 
     assert list(rows) == [row for name in names for row in (name, f"{name} (reported)")]
     assert all(list(rows[name]) == UESTC + NTU13 for name in names)
     assert rows["Transformer (reported)"]["UESTC FID_test"] == 23.43
+    for name in actor_architecture.ARCHITECTURES:
+        assert_generations_vary(rows, name, "UESTC ")
     # each row trained in its own folder, per dataset
     workdir = tmp_path / "actor_architecture" / "smoke" / "seed-0"
     for dataset in ("uestc", "ntu-13"):
@@ -58,10 +64,12 @@ def test_sota_table_scores_action2motion_and_actor_beside_the_reported_baselines
                           "Action2Motion (reported)", "ACTOR", "ACTOR (reported)"]
     assert all(list(cells) == NTU13 + HUMANACT12 for cells in rows.values())
     assert rows["ACTOR (reported)"]["HumanAct12 FID_tr"] == 0.12
+    for name in ("Action2Motion", "ACTOR"):
+        assert_generations_vary(rows, name, "HumanAct12 ")
 
 
 def test_loss_rows_never_read_the_translation_and_need_a_body_model_for_the_vertices():
-    training = actor_losses.ActorLossesConfig.smoke().ntu13.training
+    training = actor_losses.ActorLossesConfig.smoke().ntu13_training
     without, with_body = actor_losses.loss_variants(training, False), actor_losses.loss_variants(training, True)
     assert list(without) == ["L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"]
     assert list(with_body) == ["L_J", "L_R", "L_V", "L_R + L_V", "L_R + L_J (stand-in for L_R + L_V)"]

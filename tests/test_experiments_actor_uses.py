@@ -9,7 +9,8 @@ import pytest
 from test_actor_use import smooth_dataset
 
 from experiments import actor_augmentation, actor_durations, actor_recognition
-from jaxmotion.evaluation.actor_tables import slug
+from jaxmotion.evaluation.tables import slug
+from jaxmotion.pipelines.actor import real_plus_generated
 from jaxmotion.train import Checkpointer
 
 
@@ -45,14 +46,14 @@ def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp
     assert list(rows) == ["Fixed-size", "Variable-size", "Real"]
     columns = [f"{metric} @{d}" for d in config.durations for metric in ("Acc. (%)", "FID_tr")]
     assert all(list(cells) == columns for cells in rows.values())
-    assert rows["Fixed-size"][columns[0]]["n"] == config.protocol.repetitions
+    assert rows["Fixed-size"][columns[0]]["n"] == config.table.protocol.repetitions
     folder = tmp_path / "actor_durations" / "smoke" / "seed-0"
     assert (folder / "durations.png").read_bytes()[:4] == b"\x89PNG"
     # the fine-tune went on from the fixed run's last step
     with Checkpointer(folder / "variable-size" / "checkpoints") as ckpt:
-        assert ckpt.latest_step() == config.training.steps + config.finetune_steps
+        assert ckpt.latest_step() == config.training.loop.steps + config.finetune_steps
     log = (folder / "variable-size" / "metrics.jsonl").read_text().splitlines()
-    assert all(json.loads(line)["step"] > config.training.steps for line in log)
+    assert all(json.loads(line)["step"] > config.training.loop.steps for line in log)
 
 
 @pytest.mark.slow
@@ -75,7 +76,7 @@ def test_fractions_keep_every_class_and_nest():
 
 def test_real_plus_generated_repeats_the_real_set_to_the_generated_size():
     real, generated = smooth_dataset(count=2), smooth_dataset(count=6)
-    mixed = actor_recognition.real_plus_generated(real, generated)
+    mixed = real_plus_generated(real, generated)
     assert len(mixed) == 3 * len(real) + len(generated)
 
 

@@ -10,15 +10,14 @@ from jaxmotion.data.pipeline import (
     BatchSpec,
     canonicalize_motion,
     EpochOrder,
-    from_actor_features,
     make_batch_fn,
     random_lengths,
     sequence_weights,
-    to_actor_features,
     to_root_relative,
     window_frames,
 )
 from jaxmotion.geometry import SMPL24, axis_angle_to_matrix, forward_kinematics
+from jaxmotion.models.actor import from_features, to_features
 
 LENGTHS = (30, 12, 50, 7, 41, 25)
 ACTIONS = (0, 0, 0, 1, 1, 2)
@@ -141,10 +140,10 @@ def test_canonicalize_motion_keeps_joints_equal_to_fk(dataset):
 def test_actor_features_round_trip(dataset, rep, channels):
     m = dataset[0]
     rot, trans = jnp.asarray(m.rotations)[None], jnp.asarray(m.translation)[None]
-    feats = jax.jit(to_actor_features, static_argnums=2)(rot, trans, rep)
+    feats = jax.jit(to_features, static_argnums=2)(rot, trans, rep)
     assert feats.shape == (1, m.num_frames, 25, channels)
     np.testing.assert_allclose(np.asarray(feats[0, 0, 24]), 0.0, atol=1e-6)  # translation relative to frame 0
-    back_rot, back_trans = jax.jit(from_actor_features, static_argnums=1)(feats, rep)
+    back_rot, back_trans = jax.jit(from_features, static_argnums=1)(feats, rep)
     np.testing.assert_allclose(np.asarray(axis_angle_to_matrix(back_rot)), np.asarray(axis_angle_to_matrix(rot)),
                                atol=1e-5)
     np.testing.assert_allclose(np.asarray(back_trans), np.asarray(trans - trans[:, :1]), atol=1e-5)

@@ -8,6 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from jaxmotion.config import replace_paths
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
 from jaxmotion.evaluation.recognizers import (
@@ -103,7 +104,7 @@ def test_negative_input_noise_is_refused():
 
 def test_cache_folder_changes_with_every_field_of_the_spec(tmp_path):
     spec = evaluator_spec("synth-humanact12/gru", "smoke")
-    folders = {cache_folder(spec, tmp_path), cache_folder(dataclasses.replace(spec, steps=21), tmp_path),
+    folders = {cache_folder(spec, tmp_path), cache_folder(replace_paths(spec, {"loop.steps": 21}), tmp_path),
                cache_folder(dataclasses.replace(spec, seed=1), tmp_path),
                cache_folder(dataclasses.replace(spec, recognizer=SMALL_GRU), tmp_path),
                cache_folder(dataclasses.replace(spec, input_noise=0.01), tmp_path)}
@@ -112,7 +113,7 @@ def test_cache_folder_changes_with_every_field_of_the_spec(tmp_path):
 
 @pytest.mark.slow
 def test_trained_evaluator_is_cached_and_read_back_identically(tmp_path, windows):
-    spec = dataclasses.replace(evaluator_spec("synth-humanact12/gru", "smoke"), window=30, steps=10)
+    spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"), {"window": 30, "loop.steps": 10})
     first, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
     folder = cache_folder(spec, tmp_path)
     assert json.loads((folder / "recognizer.json").read_text())["held_out"] == record["held_out"]

@@ -26,11 +26,8 @@ import numpy as np
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
 from jaxmotion.geometry.rotations import (
-    REPRESENTATIONS,
     axis_angle_to_matrix,
-    from_matrix,
     matrix_to_axis_angle,
-    to_matrix,
 )
 
 Sampling = Literal["epoch", "uniform", "balanced", "sqrt"]
@@ -160,26 +157,6 @@ def to_origin(joints: jax.Array, translation: jax.Array) -> tuple[jax.Array, jax
     return joints - origin[:, :, None], translation - origin
 
 
-def to_actor_features(rotations: jax.Array, translation: jax.Array, rep: str = "rot6d") -> jax.Array:
-    """ACTOR's input tensor ``[B, T, J + 1, C]``: each joint's rotation in ``rep``, then one extra "joint"
-    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2).
-
-    ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``; C = 6 (rot6d), 4, 3 or 9 (matrix).
-    """
-    feats = from_matrix(axis_angle_to_matrix(rotations), rep)
-    feats = feats.reshape(*rotations.shape[:3], -1)  # [B, T, J, C]
-    relative = translation - translation[:, :1]
-    trans_row = jnp.pad(relative, ((0, 0), (0, 0), (0, feats.shape[-1] - 3)))[:, :, None]
-    return jnp.concatenate([feats, trans_row], axis=2)
-
-
-def from_actor_features(features: jax.Array, rep: str = "rot6d") -> tuple[jax.Array, jax.Array]:
-    """Inverse of ``to_actor_features``: ``[B, T, J + 1, C] -> (rotations [B, T, J, 3], translation [B, T, 3])``,
-    the translation relative to frame 0."""
-    rots = features[:, :, :-1].reshape(*features.shape[:2], features.shape[2] - 1, *REPRESENTATIONS[rep])
-    return matrix_to_axis_angle(to_matrix(rots, rep)), features[:, :, -1, :3]
-
-
 def to_root_relative(joints: jax.Array) -> tuple[jax.Array, jax.Array]:
     """ODMO's split of ``joints [B, T, J, 3]`` into the pose relative to each frame's root ``[B, T, J, 3]``
     and the root trajectory relative to frame 0 ``[B, T, 3]``."""
@@ -301,13 +278,24 @@ def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec
                          ids, chunk)
 
 
-def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int) -> Any:
+def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any = None) -> Any:
     """Apply ``fn(i, chunk_i)`` to consecutive chunks of ``size`` rows of ``rows`` (a pytree of arrays
     sharing a leading axis N) and concatenate its outputs (a pytree of arrays with a leading row axis) on
     the host. The last chunk is padded by repeating its last row, so ``fn`` sees one shape (one
-    compilation); the padding's outputs are dropped."""
+    compilation); the padding's outputs are dropped.
+
+    ``mesh``: a data mesh (:func:`jaxmotion.train.mesh.data_mesh`); each chunk is then split along its rows
+    over the mesh's devices (``size`` rounded up to a multiple of the device count), and the outputs are
+    gathered from every device (and process) before they are concatenated. ``None``: one device."""
     total = jax.tree.leaves(rows)[0].shape[0]
     size = min(size, total)
+    place, fetch = (lambda part: part), np.asarray
+    if mesh is not None:
+        from jaxmotion.train.mesh import DATA_AXIS, gather, shard_batch  # the loop's module; imported lazily
+
+        devices = mesh.shape[DATA_AXIS]
+        size = -(-size // devices) * devices
+        place, fetch = (lambda part: shard_batch(part, mesh)), gather
     parts = []
     for i, first in enumerate(range(0, total, size)):
         count = min(size, total - first)
@@ -316,8 +304,8 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int) -> Any:
             part = np.asarray(a)[first:first + count]
             return np.pad(part, [(0, size - count)] + [(0, 0)] * (part.ndim - 1), mode="edge")
 
-        out = fn(i, jax.tree.map(padded, rows))
-        parts.append(jax.tree.map(lambda a, count=count: np.asarray(a)[:count], out))
+        out = fn(i, place(jax.tree.map(padded, rows)))
+        parts.append(jax.tree.map(lambda a, count=count: fetch(a)[:count], out))
     return jax.tree.map(lambda *chunks: np.concatenate(chunks), *parts)
 
 

@@ -15,8 +15,9 @@ and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part o
 The "Real" row is computed the same way as a generator's: a second, independent draw of the reference
 real set (ACTOR's "gt2") plays the generator's part, so its FID measures how far two real samples lie
 apart, its accuracy is the recogniser's on real motions, and its diversity/multimodality are the data's.
-With several real sets (UESTC: train and test), the FID against each is reported (``FID_train``,
-``FID_test``); labels, accuracy and the Real row use the first set, the reference.
+The real sets are named (``{"train": ..., "test": ...}``) and the FID against each is reported under
+its name (``FID_train``, ``FID_test``); labels, accuracy and the Real row use the first set, the
+reference. A paper's column names are a separate mapping (:mod:`jaxmotion.evaluation.tables`).
 
 :func:`evaluate` returns rows ``{row: {metric: [R values]}}``, the form an experiment's ``run`` returns;
 the runner writes them to ``table.md`` and ``metrics.json`` (outside an experiment:
@@ -36,6 +37,7 @@ from typing import Any, Literal
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.sharding import Mesh
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks
@@ -93,29 +95,37 @@ def real_windows(data: MotionDataset, key: jax.Array, config: ProtocolConfig, ca
     return epoch_windows(data, key, spec, min(config.max_real, len(data)))
 
 
-def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: int, chunk: int) -> dict[str, np.ndarray]:
+def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: int, chunk: int,
+             mesh: Mesh | None = None) -> dict[str, np.ndarray]:
     """Call ``sampler`` on ``actions [N]`` in chunks of ``chunk`` (the last one padded, so the sampler sees
-    one shape) and concatenate; chunk i uses ``fold_in(key, i)``."""
+    one shape) and concatenate; chunk i uses ``fold_in(key, i)``. ``mesh``: split each chunk over a data
+    mesh's devices (:func:`jaxmotion.data.pipeline.map_in_chunks`); ``None``: one device."""
+    if mesh is not None:
+        from jaxmotion.train.mesh import replicate
+
+        key = replicate(key, mesh)
+
     def sample(i, part):
-        motions = sampler(jax.random.fold_in(key, i), jnp.asarray(part), jnp.full(part.shape, duration, jnp.int32))
+        durations = jnp.full(part.shape, duration, jnp.int32, device=None if mesh is None else part.sharding)
+        motions = sampler(jax.random.fold_in(key, i), jnp.asarray(part), durations)
         if "joints" not in motions:
             raise ValueError(f"sampler output: expected a mapping with 'joints' [N, T, J, 3], got keys {sorted(motions)}")
         return dict(motions)
 
-    return map_in_chunks(sample, np.asarray(actions, np.int32), chunk)
+    return map_in_chunks(sample, np.asarray(actions, np.int32), chunk, mesh=mesh)
 
 
 def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,
           references: Mapping[str, jax.Array], config: ProtocolConfig) -> dict[str, float]:
     """The metrics of one set of motions made for ``actions [N]``: accuracy, ``FID_<name>`` against each
-    reference feature set ``[M, D]`` (just ``FID`` when there is one), diversity, multimodality."""
+    named reference feature set ``[M, D]``, diversity, multimodality."""
     logits, features = recognizer(motions)
     actions = jnp.asarray(actions)
     confusion = confusion_matrix(actions, jnp.argmax(logits, -1), recognizer.num_classes)
     k_div, k_mm = jax.random.split(key)
     out = {"accuracy": float(accuracy(confusion))}
     for name, reference in references.items():
-        out["FID" if len(references) == 1 else f"FID_{name}"] = float(fid(features, reference))
+        out[f"FID_{name}"] = float(fid(features, reference))
     out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
     out["multimodality"] = float(multimodality(k_mm, features, actions, recognizer.num_classes,
                                                config.multimodality_pairs))
@@ -123,16 +133,21 @@ def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.
 
 
 def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer,
-             real: Mapping[str, MotionDataset], config: ProtocolConfig) -> dict[str, dict[str, list[float]]]:
+             real: Mapping[str, MotionDataset], config: ProtocolConfig,
+             mesh: Mesh | None = None) -> dict[str, dict[str, list[float]]]:
     """Rows ``{"Real": {metric: [R values]}, <sampler name>: {...}}`` over ``config.repetitions``.
 
     ``real``: named real sets, the first being the reference (labels, accuracy, the Real row). Every
     sampler is scored against the same real draws in a repetition. Repetition r uses ``fold_in(key, r)``.
+    ``mesh``: generation and the recogniser's passes split their chunks over a
+    data mesh's devices (same numbers up to float32 sums); ``None``: one device.
     """
     if not real:
         raise ValueError("real: expected at least one named real dataset")
     if "Real" in samplers:
         raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
+    if mesh is not None and recognizer.mesh is None:
+        recognizer = dataclasses.replace(recognizer, mesh=mesh)
     canonical = recognizer.config.canonical
     rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
     reference_name = next(iter(real))
@@ -146,7 +161,7 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
         sets = {"Real": (second, second["actions"])}
         for i, (name, sampler) in enumerate(samplers.items()):
             sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
-                                   config.chunk), actions)
+                                   config.chunk, mesh), actions)
         for i, (name, (motions, labels)) in enumerate(sets.items()):
             metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, features, config)
             for metric, value in metrics.items():

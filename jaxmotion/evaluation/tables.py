@@ -14,14 +14,16 @@ accuracy in %). Tables that span several datasets put them :func:`side_by_side` 
 columns (``"UESTC FID_tr"``); :func:`reported_row` lays a paper's printed numbers out the same way.
 
 The paper datasets' embedded stand-ins, with the evaluator each paper scores them with, are
-:data:`STAND_INS`; :class:`TableData` names the dataset a table loads and :func:`real_sets` loads it.
+:data:`STAND_INS`; :class:`TableData` names the dataset a table loads and :func:`real_sets` loads it;
+:class:`TableDataset` adds the evaluator and the protocol (:func:`table_dataset`: a stand-in in a profile).
+:func:`run_table` is a whole table on one dataset, :func:`run_tables` on several, side by side.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -32,7 +34,7 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, evaluate
-from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
 from jaxmotion.geometry.skeletons import Skeleton
 
 
@@ -170,3 +172,62 @@ def interleave_reported(rows: Mapping[str, Mapping[str, Any]], reported: Mapping
         if row in reported:
             table[f"{row} (reported)"] = reported[row]
     return table
+
+
+@dataclasses.dataclass(frozen=True)
+class TableDataset:
+    """One dataset of a table: its column prefix (the paper's name, ``"NTU-13"``), the data, the evaluator
+    and the protocol it is scored with."""
+
+    label: str
+    data: TableData
+    evaluator: RecognizerTraining
+    protocol: ProtocolConfig
+
+
+#: The cpu profile's protocol unless an experiment sizes its own: 5 repetitions of up to 1 000 motions.
+CPU_PROTOCOL = ProtocolConfig(repetitions=5, max_real=1000)
+#: The smoke profile's: 2 repetitions of 40 motions.
+SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, max_real=40, chunk=40)
+
+
+def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CPU_PROTOCOL,
+                  paper_protocol: ProtocolConfig = ProtocolConfig.actor()) -> TableDataset:
+    """The embedded stand-in of the paper dataset ``label`` (a key of :data:`STAND_INS`) in ``profile``:
+    its standard evaluator in that profile; smoke: 80 clips and :data:`SMOKE_PROTOCOL`; cpu: ``cpu_protocol``;
+    paper: ``paper_protocol``."""
+    if label not in STAND_INS:
+        raise ValueError(f"label: expected one of {sorted(STAND_INS)}, got {label!r}")
+    stand_in = STAND_INS[label]
+    data = TableData(stand_in.dataset, count=80 if profile == "smoke" else None, test_split=stand_in.test_split)
+    protocol = {"smoke": SMOKE_PROTOCOL, "cpu": cpu_protocol, "paper": paper_protocol}.get(profile)
+    if protocol is None:
+        raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+    return TableDataset(label, data, evaluator_spec(stand_in.evaluator, profile), protocol)
+
+
+def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
+              eval_key: jax.Array, data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS,
+              **options) -> dict[str, dict[str, np.ndarray]]:
+    """A table on one dataset: load it, train every row (:func:`fit_rows` in ``workdir``), score them
+    together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``options``: the
+    loop's and the protocol's ``mesh``."""
+    real = real_sets(table.data, data_root)
+    samplers = fit_rows(rows, real["train"], train_key, workdir, **options)
+    return paper_columns(score_rows(eval_key, samplers, real, table.evaluator, table.protocol, data_root=data_root,
+                                    **options), columns)
+
+
+def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Recipe]], *,
+               workdir: str | Path, key: Callable[[str], jax.Array], data_root: str | None = None,
+               columns: Mapping[str, str] = ACTOR_COLUMNS, **options) -> dict[str, dict[str, Any]]:
+    """A table over several datasets, side by side: on each, the rows ``rows_of(dataset)`` train in
+    ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``."""
+    labels = [table.label for table in tables]
+    if len({slug(label) for label in labels}) != len(labels):
+        raise ValueError(f"tables: labels must give distinct folder names, got {labels}")
+    return side_by_side({table.label: run_table(rows_of(table), table, workdir=Path(workdir) / slug(table.label),
+                                                train_key=key(f"train {table.label}"),
+                                                eval_key=key(f"eval {table.label}"), data_root=data_root,
+                                                columns=columns, **options)
+                         for table in tables})

@@ -12,7 +12,7 @@ then the translation row ``[tx, ty, tz, 0, ...]``) with ``mask [B, T]``:
 * ``KL`` the Gaussian KL to N(0, I), **summed** over batch and latent dimensions as in the code, weighted
   by λ_KL (1e-5).
 
-Axes: B batch, T frames, J joints, C channels, d latent.
+Axes: B batch, T frames, J joints, C channels, d model width (the size of z).
 """
 
 from __future__ import annotations

@@ -35,8 +35,8 @@ them and is not implemented.
 **The feedback quirk.** The original draws ``random.random() < tf_ratio`` (0.6) **once per training iteration**;
 when it holds, every frame of that batch gets the model's **own** previous output as ``x_prev`` (gradients flow
 through it, it is not detached), otherwise the ground truth ``x_{t−1}`` — the opposite of what the name
-"teacher forcing" suggests. :attr:`A2MVAEConfig.teacher_forcing` is that probability of feeding back the own
-output. ``teacher_forcing_scope="sequence"`` (default) reproduces the code: one Bernoulli draw per loss call,
+"teacher forcing" suggests. :attr:`A2MVAEConfig.own_output_feedback` is that probability of feeding back the
+own output (named for what it does, not after ``tf_ratio``). ``feedback_scope="sequence"`` (default) reproduces the code: one Bernoulli draw per loss call,
 shared by all frames and all sequences of the batch. ``"step"`` draws once per frame (shared by the batch), for
 experiments; it is not what the authors ran. The draws come from the ``key`` passed to :func:`a2m_vae_loss`.
 
@@ -51,7 +51,8 @@ experiments; it is not what the authors ran. The draws come from the ``key`` pas
 * per-frame random keys are ``fold_in(key, t)``, so a sequence's first frames draw the same noise whatever
   the padded length.
 
-**Training configuration** (:class:`A2MTrainConfig`): three torch ``Adam(lr 2e-4, betas (0.9, 0.999),
+**Training configuration** (:class:`A2MOptimizer`; batch, clip length and steps in
+:class:`jaxmotion.train.a2m.A2MTraining`): three torch ``Adam(lr 2e-4, betas (0.9, 0.999),
 weight_decay 1e-5)`` optimisers, one per net (equivalent to one Adam over all parameters: Adam is per
 element); torch's ``weight_decay`` is an L2 term added to the gradient before the Adam moments (not AdamW),
 see :func:`a2m_optimizer`. Batch 128; FACTS gives 50k iterations (the paper), while the released xyz
@@ -75,8 +76,8 @@ import jax
 import jax.numpy as jnp
 import optax
 
+from jaxmotion.nn.core import LinearParams, init_linear, linear
 from jaxmotion.nn.recurrent import GRUParams, gru_cell, init_gru
-from jaxmotion.nn.transformer import LinearParams, init_linear, linear
 
 # ------------------------------------------------------------------------------------------------- configs
 
@@ -94,8 +95,8 @@ class A2MVAEConfig:
     posterior_layers: int = 1
     decoder_layers: int = 2
     time_counter: bool = True
-    teacher_forcing: float = 0.6  # probability of feeding back the model's OWN previous output (``tf_ratio``)
-    teacher_forcing_scope: Literal["sequence", "step"] = "sequence"
+    own_output_feedback: float = 0.6  # probability of feeding back the model's OWN previous output (``tf_ratio``)
+    feedback_scope: Literal["sequence", "step"] = "sequence"
 
     def __post_init__(self):
         for name in ("pose_dim", "num_classes", "hidden", "latent", "prior_layers", "posterior_layers",
@@ -105,11 +106,11 @@ class A2MVAEConfig:
                 raise ValueError(f"{name}: expected a positive int, got {value!r}")
         if not self.kl_weight >= 0:
             raise ValueError(f"kl_weight: expected >= 0, got {self.kl_weight!r}")
-        if not 0.0 <= self.teacher_forcing <= 1.0:
-            raise ValueError(f"teacher_forcing: expected a probability in [0, 1], got {self.teacher_forcing!r}")
-        if self.teacher_forcing_scope not in ("sequence", "step"):
-            raise ValueError(f"teacher_forcing_scope: expected 'sequence' or 'step', got "
-                             f"{self.teacher_forcing_scope!r}")
+        if not 0.0 <= self.own_output_feedback <= 1.0:
+            raise ValueError(f"own_output_feedback: expected a probability in [0, 1], got {self.own_output_feedback!r}")
+        if self.feedback_scope not in ("sequence", "step"):
+            raise ValueError(f"feedback_scope: expected 'sequence' or 'step', got "
+                             f"{self.feedback_scope!r}")
 
     @property
     def condition_dim(self) -> int:
@@ -118,19 +119,17 @@ class A2MVAEConfig:
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
-class A2MTrainConfig:
-    """The authors' optimisation settings (``trainIters`` and ``opt.txt``)."""
+class A2MOptimizer:
+    """The authors' optimiser settings (``opt.txt``); batch size, clip length and the number of steps are
+    :class:`jaxmotion.train.a2m.A2MTraining`'s."""
 
     learning_rate: float = 2e-4
     b1: float = 0.9
     b2: float = 0.999
     weight_decay: float = 1e-5  # torch Adam's coupled L2 (added to the gradient), not AdamW
-    batch_size: int = 128
-    iterations: int = 50_000  # FACTS / paper; released xyz opt.txt: 300k (NTU-13, mocap), 500k (HumanAct12)
-    frames: int = 60  # clip length (``motion_length``); CMU mocap 100
 
 
-def a2m_optimizer(config: A2MTrainConfig) -> optax.GradientTransformation:
+def a2m_optimizer(config: A2MOptimizer) -> optax.GradientTransformation:
     """torch ``Adam(lr, betas, weight_decay)``: L2 ``weight_decay · θ`` added to the gradient, then Adam."""
     adam = optax.adam(config.learning_rate, b1=config.b1, b2=config.b2, eps=1e-8)
     if config.weight_decay:
@@ -246,9 +245,9 @@ def _time_counter(lengths: jax.Array, num_frames: int) -> jax.Array:
 
 def _feedback_draws(key: jax.Array, config: A2MVAEConfig, num_frames: int) -> jax.Array:
     """``[T]`` bool: True where frame t's output (not the ground truth) becomes frame t + 1's ``x_prev``."""
-    if config.teacher_forcing_scope == "sequence":
-        return jnp.broadcast_to(jax.random.bernoulli(key, config.teacher_forcing), (num_frames,))
-    return jax.random.bernoulli(key, config.teacher_forcing, (num_frames,))
+    if config.feedback_scope == "sequence":
+        return jnp.broadcast_to(jax.random.bernoulli(key, config.own_output_feedback), (num_frames,))
+    return jax.random.bernoulli(key, config.own_output_feedback, (num_frames,))
 
 
 def _check_actions(actions: jax.Array, batch: int | None = None) -> jax.Array:

@@ -4,7 +4,7 @@ functions.
 The model on one screen (FACTS.md §3; paper §3.1):
 
 * **Input** ``x [B, T, J, C]``: per frame the 24 joint rotations in ``rep`` (C = 6 for rot6d) and one extra
-  "joint" holding the root translation relative to frame 0 (``jaxmotion.data.pipeline.to_actor_features``),
+  "joint" holding the root translation relative to frame 0 (:func:`to_features`),
   with ``mask [B, T]`` marking real frames (a prefix of each row).
 * **Encoder**: each frame is embedded by one linear layer (J·C -> d); the per-action distribution tokens
   ``mu_query[a]`` and ``sigma_query[a]`` are prepended; sinusoidal positional encodings (positions 0..T+1)
@@ -28,7 +28,7 @@ FACTS.md §3 "Baselines"). Below, ``a`` is the one-hot action [K] and ``τ_t = t
   ``Linear(d -> J·C)``. No dropout (ACTOR's ``nn.GRU`` has none).
 * ``"fc"``: fixed length ``T = config.frames``. Encoder ``(J·C·T + K) -> 2d -> d`` with GELU, then linear
   layers to μ / logvar; decoder ``(d + K) -> d -> 2d -> J·C·T`` with GELU after every layer, **the output
-  included** (see :func:`_decode_fc`). The widths follow ``latent``: the paper's d = 256 gives its 512 / 256.
+  included** (see :func:`_decode_fc`). The widths follow ``width``: the paper's d = 256 gives its 512 / 256.
   No dropout (ACTOR's ``fc.py`` has none).
 * ``"autoregressive"``: ACTOR's Transformer encoder above (``autotrans.py`` imports it, distribution tokens
   included); decoder of joeynmt pre-norm layers (LayerNorm eps 1e-6, ReLU FF, causal self-attention),
@@ -49,27 +49,40 @@ L layers.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 from typing import Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
 
-from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
-from jaxmotion.nn.transformer import (
-    DecoderLayerParams,
-    EncoderLayerParams,
+from jaxmotion.geometry.kinematics import forward_kinematics
+from jaxmotion.geometry.rotations import (
+    REPRESENTATIONS,
+    axis_angle_to_matrix,
+    from_matrix,
+    matrix_to_axis_angle,
+    to_matrix,
+)
+from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.nn.core import (
     LayerNormParams,
     LinearParams,
-    decoder_stack,
     dropout,
-    encoder_stack,
-    init_decoder_stack,
-    init_encoder_stack,
     init_layer_norm,
     init_linear,
     layer_norm,
     linear,
+    torch_uniform,
+)
+from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
+from jaxmotion.nn.transformer import (
+    DecoderLayerParams,
+    EncoderLayerParams,
+    decoder_stack,
+    encoder_stack,
+    init_decoder_stack,
+    init_encoder_stack,
     sinusoidal_encoding,
 )
 
@@ -81,7 +94,9 @@ ARCHITECTURES: tuple[str, ...] = ("transformer", "gru", "fc", "autoregressive")
 class ActorConfig:
     """ACTOR's architecture. Defaults are the paper's (d 256, 8 layers, 4 heads, FF 1024, dropout 0.1, GELU).
 
-    ``architecture`` picks a Table 2 row (module docstring); ``distribution_tokens`` and ``bias_token`` are
+    ``rep``: the rotation representation of the input and output tensor (its channels C per joint); ``width``:
+    d, the model width, which is also the size of z. ``architecture`` picks a Table 2 row (module docstring);
+    ``distribution_tokens`` and ``bias_token`` are
     the Transformer's own ablations; ``frames`` is the fixed clip length of the ``"fc"`` variant (its input
     is J·C·T wide) and is ignored by the others. ``ff``, ``heads`` and ``activation`` are unused by ``"gru"``
     and ``"fc"``; the autoregressive decoder's FF is ReLU whatever ``activation`` says (joeynmt's layer).
@@ -89,8 +104,8 @@ class ActorConfig:
 
     num_classes: int
     num_joints: int = 25
-    channels: int = 6
-    latent: int = 256
+    rep: Literal["axis_angle", "quaternion", "matrix", "rot6d"] = "rot6d"
+    width: int = 256
     ff: int = 1024
     layers: int = 8
     heads: int = 4
@@ -104,16 +119,21 @@ class ActorConfig:
     def __post_init__(self):
         if self.architecture not in ARCHITECTURES:
             raise ValueError(f"ActorConfig.architecture: expected one of {ARCHITECTURES}, got {self.architecture!r}")
-        for name in ("num_classes", "num_joints", "channels", "latent", "ff", "layers", "heads", "frames"):
+        for name in ("num_classes", "num_joints", "width", "ff", "layers", "heads", "frames"):
             if getattr(self, name) < 1:
                 raise ValueError(f"ActorConfig.{name} must be >= 1, got {getattr(self, name)}")
-        if self.architecture in ("transformer", "autoregressive") and self.latent % self.heads:
-            raise ValueError(f"ActorConfig: latent ({self.latent}) must be a multiple of heads ({self.heads})")
+        if self.architecture in ("transformer", "autoregressive") and self.width % self.heads:
+            raise ValueError(f"ActorConfig: width ({self.width}) must be a multiple of heads ({self.heads})")
         if self.architecture != "transformer" and not (self.distribution_tokens and self.bias_token):
             raise ValueError(f"ActorConfig.distribution_tokens / bias_token: the token ablations apply to "
                              f"architecture 'transformer' only; leave both True for {self.architecture!r}")
         if not 0.0 <= self.dropout < 1.0:
             raise ValueError(f"ActorConfig.dropout must be in [0, 1), got {self.dropout}")
+
+    @property
+    def channels(self) -> int:
+        """C: the numbers per joint of ``rep`` (6 for rot6d)."""
+        return math.prod(REPRESENTATIONS[self.rep])
 
     @property
     def features(self) -> int:
@@ -214,7 +234,7 @@ AnyActorParams = ActorParams | GruActorParams | FcActorParams | AutoregressiveAc
 
 def _init_transformer_encoder(keys: jax.Array, config: ActorConfig) -> ActorEncoderParams:
     """``keys``: 4 keys."""
-    d, k = config.latent, config.num_classes
+    d, k = config.width, config.num_classes
     tokens = config.distribution_tokens
     return ActorEncoderParams(
         skel_embedding=init_linear(keys[0], config.features, d),
@@ -228,7 +248,7 @@ def _init_transformer_encoder(keys: jax.Array, config: ActorConfig) -> ActorEnco
 
 def _init_transformer(key: jax.Array, config: ActorConfig) -> ActorParams:
     keys = jax.random.split(key, 9)
-    d, k = config.latent, config.num_classes
+    d, k = config.width, config.num_classes
     decoder = ActorDecoderParams(
         action_biases=jax.random.normal(keys[4], (k, d)) if config.bias_token else None,
         z_action_linear=None if config.bias_token else init_linear(keys[5], d + k, d),
@@ -239,12 +259,12 @@ def _init_transformer(key: jax.Array, config: ActorConfig) -> ActorParams:
 
 
 def _init_gru_layers(key: jax.Array, config: ActorConfig) -> tuple[GRUParams, ...]:
-    return tuple(init_gru(k, config.latent, config.latent) for k in jax.random.split(key, config.layers))
+    return tuple(init_gru(k, config.width, config.width) for k in jax.random.split(key, config.layers))
 
 
 def _init_gru(key: jax.Array, config: ActorConfig) -> GruActorParams:
     keys = jax.random.split(key, 7)
-    d, k = config.latent, config.num_classes
+    d, k = config.width, config.num_classes
     encoder = GruEncoderParams(
         feats_embedding=init_linear(keys[0], config.features + k + 1, d),
         gru=_init_gru_layers(keys[1], config),
@@ -261,7 +281,7 @@ def _init_gru(key: jax.Array, config: ActorConfig) -> GruActorParams:
 
 def _init_fc(key: jax.Array, config: ActorConfig) -> FcActorParams:
     keys = jax.random.split(key, 7)
-    d, k = config.latent, config.num_classes
+    d, k = config.width, config.num_classes
     flat = config.features * config.frames
     encoder = FcEncoderParams(
         hidden1=init_linear(keys[0], flat + k, 2 * d),
@@ -279,9 +299,9 @@ def _init_fc(key: jax.Array, config: ActorConfig) -> FcActorParams:
 
 def _init_autoregressive(key: jax.Array, config: ActorConfig) -> AutoregressiveActorParams:
     keys = jax.random.split(key, 8)
-    d, k = config.latent, config.num_classes
+    d, k = config.width, config.num_classes
     # torch's default Linear init for the bias-free output layer: U(±1/√d)
-    output_weight = jax.random.uniform(keys[7], (config.features, d), jnp.float32, -d**-0.5, d**-0.5)
+    output_weight = torch_uniform(keys[7], (config.features, d), d)
     decoder = AutoregressiveDecoderParams(
         embedding=init_linear(keys[4], d + k + 1, d),
         embedding_x=init_linear(keys[5], config.features + k + 1, d),
@@ -368,7 +388,7 @@ def _encode_transformer(p: ActorEncoderParams, config: ActorConfig, x: jax.Array
     if config.distribution_tokens:
         h = jnp.concatenate([p.mu_query[actions][:, None], p.sigma_query[actions][:, None], h], axis=1)
         mask = jnp.concatenate([jnp.ones((batch, 2), bool), mask], axis=1)
-    h = dropout(h + sinusoidal_encoding(jnp.arange(h.shape[1]), config.latent), config.dropout, k_pe)
+    h = dropout(h + sinusoidal_encoding(jnp.arange(h.shape[1]), config.width), config.dropout, k_pe)
     if config.distribution_tokens:  # only the µ and Σ tokens' outputs are read: the last layer computes those
         out = encoder_stack(p.layers, h, key_padding_mask=mask, num_queries=2, **_stack_kwargs(config, k_layers))
         return out[:, 0], out[:, 1]
@@ -413,7 +433,7 @@ def _decode_transformer(p: ActorDecoderParams, config: ActorConfig, z: jax.Array
     else:
         onehot = jax.nn.one_hot(actions, config.num_classes, dtype=z.dtype)
         memory = linear(p.z_action_linear, jnp.concatenate([z, onehot], axis=-1))
-    queries = jnp.broadcast_to(sinusoidal_encoding(jnp.arange(frames), config.latent), (batch, frames, config.latent))
+    queries = jnp.broadcast_to(sinusoidal_encoding(jnp.arange(frames), config.width), (batch, frames, config.width))
     queries = dropout(queries, config.dropout, k_pe)
     out = decoder_stack(p.layers, queries, memory[:, None], tgt_key_padding_mask=mask,
                         **_stack_kwargs(config, k_layers))
@@ -447,7 +467,7 @@ def _decode_autoregressive_step(p: AutoregressiveDecoderParams, config: ActorCon
     whose frame t depends on ``previous[:, :t + 1]`` only; padded frames zero."""
     k_emb, k_layers = _split(key)
     target = linear(p.embedding_x, jnp.concatenate([previous, conditioning], axis=-1))
-    target = target + sinusoidal_encoding(jnp.arange(mask.shape[1]), config.latent)
+    target = target + sinusoidal_encoding(jnp.arange(mask.shape[1]), config.width)
     target = dropout(target, config.dropout, k_emb)
     out = decoder_stack(p.layers, target, memory, num_heads=config.heads, tgt_key_padding_mask=mask,
                         memory_key_padding_mask=mask, causal=True, activation="relu", norm_first=True,
@@ -534,8 +554,8 @@ def decode(params: AnyActorParams, config: ActorConfig, z: jax.Array, actions: j
     ``key``, every pass uses the same dropout masks, so the result is the teacher-forced decoding of itself).
     ``"fc"`` needs ``T == config.frames``.
     """
-    if z.ndim != 2 or z.shape[1] != config.latent:
-        raise ValueError(f"z: expected [B, {config.latent}], got {tuple(z.shape)}")
+    if z.ndim != 2 or z.shape[1] != config.width:
+        raise ValueError(f"z: expected [B, {config.width}], got {tuple(z.shape)}")
     if actions.shape != z.shape[:1] or mask.ndim != 2 or mask.shape[0] != z.shape[0]:
         raise ValueError(f"actions, mask: expected [B] and [B, T] with B = {z.shape[0]}, got "
                          f"{tuple(actions.shape)} and {tuple(mask.shape)}")
@@ -583,6 +603,39 @@ def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, action
     ``(x [B, frames, J, C], mask [B, frames])``; frames past a duration are zero and unmasked. The
     autoregressive decoder runs frame by frame; ``"fc"`` needs ``frames == config.frames``."""
     actions = jnp.asarray(actions)
-    z = jax.random.normal(key, (actions.shape[0], config.latent))
+    z = jax.random.normal(key, (actions.shape[0], config.width))
     mask = length_mask(durations, frames)
     return decode(params, config, z, actions, mask), mask
+
+
+# ------------------------------------------------------------------------------------------- feature layout
+
+
+def to_features(rotations: jax.Array, translation: jax.Array, rep: str = "rot6d") -> jax.Array:
+    """ACTOR's input tensor ``[B, T, J + 1, C]``: each joint's rotation in ``rep``, then one extra "joint"
+    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2).
+
+    ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``; C = 6 (rot6d), 4, 3 or 9 (matrix).
+    """
+    feats = from_matrix(axis_angle_to_matrix(rotations), rep)
+    feats = feats.reshape(*rotations.shape[:3], -1)  # [B, T, J, C]
+    relative = translation - translation[:, :1]
+    trans_row = jnp.pad(relative, ((0, 0), (0, 0), (0, feats.shape[-1] - 3)))[:, :, None]
+    return jnp.concatenate([feats, trans_row], axis=2)
+
+
+def from_features(features: jax.Array, rep: str = "rot6d") -> tuple[jax.Array, jax.Array]:
+    """Inverse of :func:`to_features`: ``[B, T, J + 1, C] -> (rotations [B, T, J, 3], translation [B, T, 3])``,
+    the translation relative to frame 0."""
+    rots = features[:, :, :-1].reshape(*features.shape[:2], features.shape[2] - 1, *REPRESENTATIONS[rep])
+    return matrix_to_axis_angle(to_matrix(rots, rep)), features[:, :, -1, :3]
+
+
+def motions_from_features(x: jax.Array, mask: jax.Array, rep: str, skeleton: Skeleton) -> dict[str, jax.Array]:
+    """ACTOR's tensor ``x [B, T, J + 1, C]`` -> the library's batch form: ``rotations [B, T, J, 3]``,
+    ``translation [B, T, 3]`` (relative to frame 0), ``joints [B, T, J, 3]`` (forward kinematics on
+    ``skeleton``'s rest offsets), ``mask [B, T]`` and ``lengths [B]``."""
+    rotations, translation = from_features(x, rep)
+    joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, skeleton.offsets, skeleton.parents)
+    return {"joints": joints, "rotations": rotations, "translation": translation, "mask": mask,
+            "lengths": mask.sum(axis=1)}

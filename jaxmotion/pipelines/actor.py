@@ -21,7 +21,7 @@ randomness from its own key, so results do not depend on ``chunk``. The jitted c
 as arguments, never as closure constants.
 
 Axes: N or B motions, T frames, J joints (the model has J + 1 rows: the translation row), C channels,
-d latent width, S interpolation steps, K classes.
+d model width (the size of z), S interpolation steps, K classes.
 """
 
 from __future__ import annotations
@@ -35,22 +35,28 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxmotion.data.motion import Motion, MotionDataset
+from jaxmotion.data.motion import Motion, MotionDataset, concatenate
 from jaxmotion.data.pipeline import (
     BatchSpec,
     Padding,
     canonicalize_motion,
     gather_windows,
     map_in_chunks,
-    to_actor_features,
     window_frames,
 )
 from jaxmotion.data.preview import render_grid
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import Skeleton
-from jaxmotion.models.actor import ActorConfig, AnyActorParams, decode, encode, length_mask
-from jaxmotion.train.actor import ActorTraining, motions_from_features
+from jaxmotion.models.actor import (
+    ActorConfig,
+    AnyActorParams,
+    decode,
+    encode,
+    length_mask,
+    motions_from_features,
+    to_features,
+)
 
 _FIELDS = ("joints", "rotations", "translation")
 
@@ -70,64 +76,64 @@ def _repad(motions: dict[str, jax.Array], padding: Padding) -> dict[str, jax.Arr
     return out
 
 
-@functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
+@functools.partial(jax.jit, static_argnames=("config", "skeleton", "padding"))
 def decode_motions(params: AnyActorParams, z: jax.Array, actions: jax.Array, mask: jax.Array, *, config: ActorConfig,
-                   rep: str, skeleton: Skeleton, padding: Padding = "last") -> dict[str, jax.Array]:
+                   skeleton: Skeleton, padding: Padding = "last") -> dict[str, jax.Array]:
     """Decode ``z [B, d]`` with ``actions [B]`` over ``mask [B, T]`` (True on each row's first frames) into
     the batch dict (joints by forward kinematics on ``skeleton``, translation relative to frame 0), padded
     past each length by ``padding``. Jitted; ``skeleton`` is static (hashed by identity)."""
     x = decode(params, config, z, actions, mask)
-    motions = motions_from_features(x, mask, rep, skeleton)
+    motions = motions_from_features(x, mask, config.rep, skeleton)
     return {**_repad(motions, padding), "actions": actions}
 
 
-@functools.partial(jax.jit, static_argnames=("config", "rep"))
+@functools.partial(jax.jit, static_argnames=("config",))
 def posterior(params: AnyActorParams, rotations: jax.Array, translation: jax.Array, actions: jax.Array, mask: jax.Array,
-              *, config: ActorConfig, rep: str) -> tuple[jax.Array, jax.Array]:
+              *, config: ActorConfig) -> tuple[jax.Array, jax.Array]:
     """The encoder's ``(mu [B, d], logvar [B, d])`` of ``rotations [B, T, J, 3]`` (axis-angle),
     ``translation [B, T, 3]`` with ``actions [B]`` over ``mask [B, T]``; no dropout. Jitted."""
-    return encode(params, config, to_actor_features(rotations, translation, rep), actions, mask)
+    return encode(params, config, to_features(rotations, translation, config.rep), actions, mask)
 
 
 def _row_normals(key_data: jax.Array, width: int) -> jax.Array:
     return jax.vmap(lambda k: jax.random.normal(jax.random.wrap_key_data(k), (width,)))(key_data)
 
 
-@functools.partial(jax.jit, static_argnames=("frames", "config", "rep", "skeleton"))
+@functools.partial(jax.jit, static_argnames=("frames", "config", "skeleton"))
 def _generate(params: AnyActorParams, key_data: jax.Array, actions: jax.Array, durations: jax.Array, *, frames: int,
-              config: ActorConfig, rep: str, skeleton: Skeleton) -> dict[str, jax.Array]:
-    z = _row_normals(key_data, config.latent)
-    return decode_motions(params, z, actions, length_mask(durations, frames), config=config, rep=rep,
+              config: ActorConfig, skeleton: Skeleton) -> dict[str, jax.Array]:
+    z = _row_normals(key_data, config.width)
+    return decode_motions(params, z, actions, length_mask(durations, frames), config=config,
                           skeleton=skeleton)
 
 
-@functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
+@functools.partial(jax.jit, static_argnames=("config", "skeleton", "padding"))
 def _denoise(params: AnyActorParams, rotations: jax.Array, translation: jax.Array, lengths: jax.Array,
-             actions: jax.Array, key_data: jax.Array | None, *, config: ActorConfig, rep: str, skeleton: Skeleton,
+             actions: jax.Array, key_data: jax.Array | None, *, config: ActorConfig, skeleton: Skeleton,
              padding: Padding) -> dict[str, jax.Array]:
     mask = length_mask(lengths, rotations.shape[1])
-    mu, logvar = posterior(params, rotations, translation, actions, mask, config=config, rep=rep)
-    z = mu if key_data is None else mu + jnp.exp(0.5 * logvar) * _row_normals(key_data, config.latent)
-    out = decode_motions(params, z, actions, mask, config=config, rep=rep, skeleton=skeleton, padding=padding)
+    mu, logvar = posterior(params, rotations, translation, actions, mask, config=config)
+    z = mu if key_data is None else mu + jnp.exp(0.5 * logvar) * _row_normals(key_data, config.width)
+    out = decode_motions(params, z, actions, mask, config=config, skeleton=skeleton, padding=padding)
     origin = translation[:, :1]  # the model's translation is relative to frame 0
     return {**out, "translation": out["translation"] + origin, "joints": out["joints"] + origin[:, :, None]}
 
 
-@functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "hips", "padding"))
+@functools.partial(jax.jit, static_argnames=("config", "skeleton", "hips", "padding"))
 def _interpolate(params: AnyActorParams, joints: jax.Array, translation: jax.Array, rotations: jax.Array,
-                 lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig, rep: str,
+                 lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig,
                  skeleton: Skeleton, hips: tuple[int, int] | None, padding: Padding) -> dict[str, jax.Array]:
     """Two padded motions ``[2, T, ...]`` -> their S decoded interpolants (``weights [S]``), decoded with
     ``actions[0]``."""
     if hips is not None:
         joints, translation, rotations = canonicalize_motion(joints, translation, rotations, *hips)
     frames = rotations.shape[1]
-    mu, _ = encode(params, config, to_actor_features(rotations, translation, rep), actions,
+    mu, _ = encode(params, config, to_features(rotations, translation, config.rep), actions,
                    length_mask(lengths, frames))
     z = (1.0 - weights)[:, None] * mu[0] + weights[:, None] * mu[1]
     durations = jnp.round((1.0 - weights) * lengths[0] + weights * lengths[1]).astype(jnp.int32)
     return decode_motions(params, z, jnp.full(weights.shape, actions[0]), length_mask(durations, frames),
-                          config=config, rep=rep, skeleton=skeleton, padding=padding)
+                          config=config, skeleton=skeleton, padding=padding)
 
 
 @functools.partial(jax.jit, static_argnames=("skeleton", "padding"))
@@ -148,11 +154,11 @@ def _perturb(key: jax.Array, rotations: jax.Array, translation: jax.Array, lengt
 # --- checks ----------------------------------------------------------------------------------------
 
 
-def _check_model(training: ActorTraining, skeleton: Skeleton) -> None:
+def _check_model(config: ActorConfig, skeleton: Skeleton) -> None:
     if skeleton.offsets is None:
         raise ValueError(f"skeleton: {skeleton.name} has no rest offsets; forward kinematics needs them")
-    if training.model.num_joints != skeleton.num_joints + 1:
-        raise ValueError(f"skeleton: the model expects {training.model.num_joints - 1} joints (plus the translation "
+    if config.num_joints != skeleton.num_joints + 1:
+        raise ValueError(f"skeleton: the model expects {config.num_joints - 1} joints (plus the translation "
                          f"row), {skeleton.name} has {skeleton.num_joints}")
 
 
@@ -227,7 +233,7 @@ def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fp
 # --- use cases -------------------------------------------------------------------------------------
 
 
-def generate_motions(params: AnyActorParams, training: ActorTraining, key: jax.Array, actions, durations,
+def generate_motions(params: AnyActorParams, config: ActorConfig, key: jax.Array, actions, durations,
                      skeleton: Skeleton, *, class_names: Sequence[str] | None = None, fps: float = 20.0,
                      name: str = "actor", split: str = "generated", chunk: int = 256) -> MotionDataset:
     """Generate one motion per ``(actions[n], durations[n])``: ``z ~ N(0, I)`` (row n drawn with
@@ -239,8 +245,7 @@ def generate_motions(params: AnyActorParams, training: ActorTraining, key: jax.A
     does not change a row's real frames. ``class_names``: defaults to ``"0" .. "K-1"``; ``fps``: the
     dataset's (20 for UESTC).
     """
-    config = training.model
-    _check_model(training, skeleton)
+    _check_model(config, skeleton)
     actions, durations = _check_labels(actions, durations, config.num_classes)
     if class_names is None:
         class_names = tuple(str(k) for k in range(config.num_classes))
@@ -250,28 +255,27 @@ def generate_motions(params: AnyActorParams, training: ActorTraining, key: jax.A
     frames = int(durations.max())
 
     def run(_, rows):
-        return _generate(params, *rows, frames=frames, config=config, rep=training.rep, skeleton=skeleton)
+        return _generate(params, *rows, frames=frames, config=config, skeleton=skeleton)
 
     motions = map_in_chunks(run, (_row_keys(key, len(actions)), actions, durations), chunk)
     return to_dataset(motions, skeleton, class_names, fps, name=name, split=split)
 
 
-def actor_sampler(params: AnyActorParams, training: ActorTraining, skeleton: Skeleton):
+def actor_sampler(params: AnyActorParams, config: ActorConfig, skeleton: Skeleton):
     """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions`` (the batch dict,
     ``T = max(durations)``, shorter rows padded by their last frame as real windows are). Row n's noise is
     ``fold_in(key, n)``, as in :func:`generate_motions`."""
-    _check_model(training, skeleton)
+    _check_model(config, skeleton)
 
     def sampler(key, actions, durations):
         durations = np.asarray(durations, np.int32)
         return _generate(params, _row_keys(key, len(durations)), jnp.asarray(actions, jnp.int32),
-                         jnp.asarray(durations), frames=int(durations.max()), config=training.model,
-                         rep=training.rep, skeleton=skeleton)
+                         jnp.asarray(durations), frames=int(durations.max()), config=config, skeleton=skeleton)
 
     return sampler
 
 
-def denoise(params: AnyActorParams, training: ActorTraining, motions: dict, skeleton: Skeleton, *,
+def denoise(params: AnyActorParams, config: ActorConfig, motions: dict, skeleton: Skeleton, *,
             key: jax.Array | None = None, padding: Padding = "last", chunk: int = 256) -> dict[str, np.ndarray]:
     """ACTOR's denoising (use case I): encode each motion with its true action, decode for the same length.
 
@@ -284,8 +288,7 @@ def denoise(params: AnyActorParams, training: ActorTraining, motions: dict, skel
     stays where the input was), ``mask``, ``lengths``, ``actions``; frames past a length repeat the last
     real frame (``padding``, as the pipeline pads windows).
     """
-    config = training.model
-    _check_model(training, skeleton)
+    _check_model(config, skeleton)
     batch, _ = _check_batch(motions, skeleton.num_joints, need_actions=True)
     actions = np.asarray(motions["actions"])
     if actions.min() < 0 or actions.max() >= config.num_classes:
@@ -297,19 +300,19 @@ def denoise(params: AnyActorParams, training: ActorTraining, motions: dict, skel
 
     def run(_, part):
         return _denoise(params, part["rotations"], part["translation"], part["lengths"], part["actions"],
-                        part.get("keys"), config=config, rep=training.rep, skeleton=skeleton, padding=padding)
+                        part.get("keys"), config=config, skeleton=skeleton, padding=padding)
 
     return map_in_chunks(run, rows, chunk)
 
 
-def interpolate(params: AnyActorParams, training: ActorTraining, motion_a: Motion, motion_b: Motion,
+def interpolate(params: AnyActorParams, config: ActorConfig, motion_a: Motion, motion_b: Motion,
                 action_a: int | None = None, action_b: int | None = None, steps: int = 5, *, skeleton: Skeleton,
-                window: int | None = None, padding: Padding = "last") -> dict[str, np.ndarray]:
+                window: int = 60, padding: Padding = "last") -> dict[str, np.ndarray]:
     """Decoded linear interpolants between the posterior means of two real motions (use case II,
     "Real_interpolated"; the paper interpolates motions of the same action).
 
-    Each motion keeps its first ``window`` frames (default ``training.window``, the length the model was
-    trained on) and is put in the canonical pose (root of frame 0 at the origin facing +Z, as the
+    Each motion keeps its first ``window`` frames (pass the window the model was trained on; ACTOR's is 60)
+    and is put in the canonical pose (root of frame 0 at the origin facing +Z, as the
     training windows) when the skeleton names ``left_hip``/``right_hip``. ``motion_a`` is encoded with
     ``action_a`` (default ``motion_a.action``), ``motion_b`` with ``action_b`` (default: ``action_a``, one
     action for both), and every interpolant is decoded with ``action_a``. For weights
@@ -318,11 +321,9 @@ def interpolate(params: AnyActorParams, training: ActorTraining, motion_a: Motio
     plus ``weights [S]``; row 0 is the deterministic :func:`denoise` of ``motion_a``'s canonical window,
     row S - 1 that of ``motion_b`` (decoded with ``action_a``).
     """
-    config = training.model
-    _check_model(training, skeleton)
+    _check_model(config, skeleton)
     if steps < 2:
         raise ValueError(f"steps: expected >= 2 interpolation weights (both endpoints), got {steps}")
-    window = training.window if window is None else window
     if window < 1:
         raise ValueError(f"window: expected >= 1 frames, got {window}")
     action_a = motion_a.action if action_a is None else int(action_a)
@@ -345,7 +346,7 @@ def interpolate(params: AnyActorParams, training: ActorTraining, motion_a: Motio
     hips = (names.index("left_hip"), names.index("right_hip")) if {"left_hip", "right_hip"} <= set(names) else None
     weights = np.linspace(0.0, 1.0, steps, dtype=np.float32)
     out = _interpolate(params, joints, translation, rotations, np.array([n_a, n_b], np.int32),
-                       np.array([action_a, action_b], np.int32), weights, config=config, rep=training.rep,
+                       np.array([action_a, action_b], np.int32), weights, config=config,
                        skeleton=skeleton, hips=hips, padding=padding)
     return {**jax.tree.map(np.asarray, out), "weights": np.asarray(weights)}
 
@@ -373,7 +374,7 @@ def noisy(key: jax.Array, motions: dict, sigma: float, skeleton: Skeleton, *, tr
     return {**{k: np.asarray(v) for k, v in motions.items()}, **jax.tree.map(np.asarray, out)}
 
 
-def generation_grid(params: AnyActorParams, training: ActorTraining, key: jax.Array, skeleton: Skeleton,
+def generation_grid(params: AnyActorParams, config: ActorConfig, key: jax.Array, skeleton: Skeleton,
                     class_names: Sequence[str], fps: float, actions: int | Sequence[int], path: str | Path,
                     per_action: int = 3, duration: int = 60) -> MotionDataset:
     """Save Figure 5's picture: a GIF grid, one row per action (``actions``: a list of class indices, or a
@@ -385,7 +386,7 @@ def generation_grid(params: AnyActorParams, training: ActorTraining, key: jax.Ar
     if per_action < 1 or duration < 1:
         raise ValueError(f"per_action, duration: expected >= 1, got {per_action}, {duration}")
     labels = np.repeat(np.asarray(actions, np.int32), per_action)
-    generated = generate_motions(params, training, key, labels, np.full(labels.shape, duration, np.int32), skeleton,
+    generated = generate_motions(params, config, key, labels, np.full(labels.shape, duration, np.int32), skeleton,
                                  class_names=class_names, fps=fps)
     samples = tuple(f"sample {k + 1}" for k in range(per_action))
     data = dataclasses.replace(generated, name="generated", modes=np.arange(len(labels), dtype=np.int32) % per_action,
@@ -398,33 +399,32 @@ def generation_grid(params: AnyActorParams, training: ActorTraining, key: jax.Ar
 # --- training sets ---------------------------------------------------------------------------------
 
 
-@functools.partial(jax.jit, static_argnames=("config", "rep", "skeleton", "padding"))
+@functools.partial(jax.jit, static_argnames=("config", "skeleton", "padding"))
 def _interpolate_pairs(params: AnyActorParams, joints: jax.Array, translation: jax.Array, rotations: jax.Array,
-                       lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig, rep: str,
+                       lengths: jax.Array, actions: jax.Array, weights: jax.Array, *, config: ActorConfig,
                        skeleton: Skeleton, padding: Padding) -> dict[str, jax.Array]:
     """P pairs of canonical windows ``[P, 2, T, ...]`` with one weight each ``[P]`` -> P interpolants
     ``[P, T, ...]`` (:func:`_interpolate` per pair)."""
     def one(j, t, r, n, a, w):
-        out = _interpolate(params, j, t, r, n, a, w[None], config=config, rep=rep, skeleton=skeleton, hips=None,
+        out = _interpolate(params, j, t, r, n, a, w[None], config=config, skeleton=skeleton, hips=None,
                            padding=padding)
         return jax.tree.map(lambda x: x[0], out)
 
     return jax.vmap(one)(joints, translation, rotations, lengths, actions, weights)
 
 
-def interpolated_set(params: AnyActorParams, training: ActorTraining, data: MotionDataset, key: jax.Array, count: int,
-                     *, padding: Padding = "last", chunk: int = 256) -> MotionDataset:
+def interpolated_set(params: AnyActorParams, config: ActorConfig, data: MotionDataset, key: jax.Array, count: int,
+                     *, window: int = 60, padding: Padding = "last", chunk: int = 256) -> MotionDataset:
     """Use case II's "Real_interpolated" training set: ``count`` decoded interpolants between the posterior
     means of two real motions of the same action (the batched form of :func:`interpolate`).
 
     Row n takes a clip ``a`` drawn uniformly from ``data``, a clip ``b`` drawn uniformly among the clips of
     ``a``'s action (``a`` itself included) and a weight ``w ~ U(0, 1)``; each clip keeps one random
-    ``training.window``-frame window in the canonical pose (as training windows are drawn), and the row
-    decodes ``(1 - w) μ_a + w μ_b`` with that action for ``round((1 - w) n_a + w n_b)`` frames. Returns the
-    packed interpolants (``data``'s classes, skeleton and fps; translation relative to frame 0).
+    ``window``-frame window (the model's training window) in the canonical pose, as training windows are
+    drawn, and the row decodes ``(1 - w) μ_a + w μ_b`` with that action for ``round((1 - w) n_a + w n_b)``
+    frames. Returns the packed interpolants (``data``'s classes, skeleton and fps; translation relative to frame 0).
     """
-    config = training.model
-    _check_model(training, data.skeleton)
+    _check_model(config, data.skeleton)
     if count < 1:
         raise ValueError(f"count: expected >= 1 interpolants, got {count}")
     if data.rotations is None or len(data) == 0:
@@ -440,15 +440,21 @@ def interpolated_set(params: AnyActorParams, training: ActorTraining, data: Moti
     actions = data.actions[a]
     within = np.floor(np.asarray(jax.random.uniform(k_b, (count,))) * sizes[actions]).astype(np.int64)
     b = by_class[firsts[actions] + np.minimum(within, sizes[actions] - 1)]
-    windows = gather_windows(data, np.concatenate([a, b]), k_windows, BatchSpec(batch_size=1, window=training.window))
+    windows = gather_windows(data, np.concatenate([a, b]), k_windows, BatchSpec(batch_size=1, window=window))
     pairs = {name: np.stack([windows[name][:count], windows[name][count:]], axis=1)
              for name in ("joints", "translation", "rotations", "lengths", "actions")}
     pairs["weights"] = np.asarray(jax.random.uniform(k_w, (count,)))
 
     def run(_, part):
         return _interpolate_pairs(params, part["joints"], part["translation"], part["rotations"], part["lengths"],
-                                  part["actions"], part["weights"], config=config, rep=training.rep,
+                                  part["actions"], part["weights"], config=config,
                                   skeleton=data.skeleton, padding=padding)
 
     motions = map_in_chunks(run, pairs, chunk)
     return to_dataset(motions, data.skeleton, data.class_names, data.fps, name="interpolated", split="train")
+
+
+def real_plus_generated(real: MotionDataset, generated: MotionDataset) -> MotionDataset:
+    """Real and generated motions, the real ones repeated so that a batch draws about as many of each."""
+    copies = max(1, round(len(generated) / len(real)))
+    return concatenate([real] * copies + [generated], split="train")

@@ -1,9 +1,9 @@
 """Training ACTOR: what every ACTOR experiment shares.
 
 :class:`ActorTraining` holds the data window, the optimiser (AdamW, fixed learning rate, batch 20 in the
-paper), the loss weights and the length of training; :func:`train_actor` fits the model on a dataset
-with the minimal loop (jitted step, ``fold_in(key, step)`` randomness, orbax checkpoints, resume);
-:func:`motions_from_features` turns the model's tensor into the library's motions (generation, denoising
+paper), the loss weights and the loop (length of training, logging, checkpoints); :func:`train_actor`
+fits the model on a dataset with :func:`~jaxmotion.train.fit.fit` (jitted step, ``fold_in(key, step)``
+randomness, orbax checkpoints, resume); :func:`motions_from_features` turns the model's tensor into the library's motions (generation, denoising
 and the protocol's sampler are in :mod:`jaxmotion.pipelines.actor`).
 
 Axes: B batch, T frames, J joints, C channels.
@@ -12,54 +12,55 @@ Axes: B batch, T frames, J joints, C channels.
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import jax
-import numpy as np
 import optax
 from flax.training.train_state import TrainState
 
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.pipeline import BatchSpec, from_actor_features, make_batch_fn, to_actor_features
+from jaxmotion.data.pipeline import BatchSpec
 from jaxmotion.geometry.body import BodyModel
-from jaxmotion.geometry.kinematics import forward_kinematics
-from jaxmotion.geometry.rotations import REPRESENTATIONS, axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.losses.actor import ActorLossWeights, actor_loss
-from jaxmotion.models.actor import ActorConfig, AnyActorParams, autoencode, init_actor
-from jaxmotion.train.loop import LoopConfig, train
+from jaxmotion.models.actor import ActorConfig, AnyActorParams, autoencode, init_actor, to_features
+from jaxmotion.pipelines.actor import actor_sampler
+from jaxmotion.train.fit import fit
+from jaxmotion.train.loop import LoopConfig
 
 
 @dataclasses.dataclass(frozen=True)
 class ActorTraining:
     """How ACTOR is trained. Paper: AdamW 1e-4 (weight decay 0.01, PyTorch's default), batch 20, 60-frame
-    crops; ``min_length`` set gives the variable-length fine-tuning (60-100 frames, ``window`` 100)."""
+    crops; ``min_length`` set gives the variable-length fine-tuning (60-100 frames, ``window`` 100).
+    ``loop``: the number of steps and the logging / checkpoint cadence."""
 
     model: ActorConfig
-    steps: int
-    rep: str = "rot6d"
+    loop: LoopConfig
     losses: ActorLossWeights = ActorLossWeights()
     batch_size: int = 20
     window: int = 60
     min_length: int | None = None
     learning_rate: float = 1e-4
     weight_decay: float = 0.01
-    log_every: int = 100
-    checkpoint_every: int = 1000
 
-    def __post_init__(self):
-        if self.rep not in REPRESENTATIONS:
-            raise ValueError(f"ActorTraining.rep: expected one of {sorted(REPRESENTATIONS)}, got {self.rep!r}")
-        channels = int(np.prod(REPRESENTATIONS[self.rep]))
-        if self.model.channels != channels:
-            raise ValueError(f"ActorTraining: rep {self.rep!r} has {channels} channels per joint but "
-                             f"model.channels is {self.model.channels}")
+    @property
+    def batch(self) -> BatchSpec:
+        return BatchSpec(batch_size=self.batch_size, window=self.window, min_length=self.min_length)
+
+    # as a table row (jaxmotion.evaluation.tables.Recipe)
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options):
+        return train_actor(data, self, key, workdir, **loop_options)
+
+    def sampler(self, params: AnyActorParams, skeleton: Skeleton):
+        return actor_sampler(params, self.model, skeleton)
 
 
 def actor_inputs(batch: dict[str, jax.Array], rep: str) -> tuple[jax.Array, jax.Array, jax.Array]:
     """A pipeline batch -> ACTOR's ``(x [B, T, J + 1, C], actions [B], mask [B, T])``."""
     if "rotations" not in batch:
         raise ValueError("batch: ACTOR trains on joint rotations; this dataset has joint positions only")
-    return to_actor_features(batch["rotations"], batch["translation"], rep), batch["actions"], batch["mask"]
+    return to_features(batch["rotations"], batch["translation"], rep), batch["actions"], batch["mask"]
 
 
 def actor_state(training: ActorTraining, key: jax.Array) -> TrainState:
@@ -74,11 +75,11 @@ def actor_step(training: ActorTraining, skeleton: Skeleton, body: BodyModel | No
     config = training.model
 
     def step_fn(state, batch, key):
-        x, actions, mask = actor_inputs(batch, training.rep)
+        x, actions, mask = actor_inputs(batch, config.rep)
 
         def loss_fn(params):
             out = autoencode(params, config, key, x, actions, mask, train=True)
-            return actor_loss(out["output"], x, mask, out["mu"], out["logvar"], rep=training.rep,
+            return actor_loss(out["output"], x, mask, out["mu"], out["logvar"], rep=config.rep,
                               weights=training.losses, skeleton=skeleton, body=body)
 
         (_, terms), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
@@ -87,26 +88,69 @@ def actor_step(training: ActorTraining, skeleton: Skeleton, body: BodyModel | No
     return step_fn
 
 
-def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: str | None = None, *,
-                body: BodyModel | None = None, progress: bool = True) -> AnyActorParams:
-    """Fit ACTOR on ``data`` (resuming from ``workdir``'s checkpoints when present); returns the parameters."""
+def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, workdir: str | Path | None = None, *,
+                body: BodyModel | None = None, progress: bool = True, **loop_options) -> AnyActorParams:
+    """Fit ACTOR on ``data`` (resuming from ``workdir``'s checkpoints when present); returns the parameters.
+    ``loop_options``: the loop's ``mesh``, ``init_from``, ``eval_fn`` (:func:`jaxmotion.train.loop.train`)."""
     if training.model.num_classes != data.num_classes or training.model.num_joints != data.skeleton.num_joints + 1:
         raise ValueError(f"ActorTraining.model: expects {training.model.num_classes} classes and "
                          f"{training.model.num_joints - 1} joints, {data.name} has {data.num_classes} and "
                          f"{data.skeleton.num_joints}")
-    k_init, k_data, k_train = jax.random.split(key, 3)
-    spec = BatchSpec(batch_size=training.batch_size, window=training.window, min_length=training.min_length)
-    loop = LoopConfig(steps=training.steps, log_every=training.log_every, checkpoint_every=training.checkpoint_every)
-    state = train(actor_state(training, k_init), actor_step(training, data.skeleton, body),
-                  make_batch_fn(data, k_data, spec), key=k_train, config=loop, workdir=workdir, progress=progress)
+    state = fit(data, key, init_state=lambda k: actor_state(training, k),
+                step_fn=actor_step(training, data.skeleton, body), batch=training.batch, loop=training.loop,
+                workdir=workdir, progress=progress, **loop_options)
     return state.params
 
 
-def motions_from_features(x: jax.Array, mask: jax.Array, rep: str, skeleton: Skeleton) -> dict[str, jax.Array]:
-    """ACTOR's tensor ``x [B, T, J + 1, C]`` -> the library's batch form: ``rotations [B, T, J, 3]``,
-    ``translation [B, T, 3]`` (relative to frame 0), ``joints [B, T, J, 3]`` (forward kinematics on
-    ``skeleton``'s rest offsets), ``mask [B, T]`` and ``lengths [B]``."""
-    rotations, translation = from_actor_features(x, rep)
-    joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, skeleton.offsets, skeleton.parents)
-    return {"joints": joints, "rotations": rotations, "translation": translation, "mask": mask,
-            "lengths": mask.sum(axis=1)}
+# --- the profiles' trainings -----------------------------------------------------------------------
+
+UESTC_CLASSES = 40
+UESTC_EPOCH = 10_650 // 20  # steps per epoch at batch 20
+#: FACTS.md §3: the paper's epochs of its main runs per dataset (its ablations' shorter runs are not attributed)
+PAPER_EPOCHS = {"NTU-13": 2000, "UESTC": 1000, "HumanAct12": 5000}
+_PAPER_CLIPS = {"NTU-13": 3900, "UESTC": 10_650, "HumanAct12": 1200}
+
+
+def smoke_training(num_classes: int, steps: int = 2, checkpoint_every: int = 0) -> ActorTraining:
+    """A 1-layer ACTOR without dropout for the smoke profiles (dropout's random bits triple a step's compile
+    time on CPU; unit tests cover dropout), L_P only, batch 8."""
+    model = ActorConfig(num_classes=num_classes, width=16, ff=32, layers=1, heads=2, dropout=0.0)
+    return ActorTraining(model, LoopConfig(steps, log_every=2, checkpoint_every=checkpoint_every), batch_size=8)
+
+
+def uestc_training(profile: str) -> ActorTraining:
+    """The headline UESTC run in ``profile``. cpu: sized for ~20 minutes on 2 CPU cores, where learning speed
+    is what limits quality (the paper trains 530 000 steps): d 128, 2 + 2 layers, FF 256, no dropout
+    (~70 ms a step), AdamW 1e-3, 14 000 steps. Tuning here (generation accuracy, 600 windows): 1e-3 beat
+    5e-4 and 2e-3; 3e-3 collapsed the posterior; λ_KL 3e-6 reconstructed better but generated worse than
+    1e-5; a cosine decay learned slower. L_J stands in for L_V, which needs an SMPL model. paper: the paper's
+    model, 1 000 epochs at batch 20."""
+    if profile == "smoke":
+        return smoke_training(UESTC_CLASSES, steps=4, checkpoint_every=2)
+    if profile == "cpu":
+        model = ActorConfig(num_classes=UESTC_CLASSES, width=128, ff=256, layers=2, heads=4, dropout=0.0)
+        return ActorTraining(model, LoopConfig(14_000, log_every=100, checkpoint_every=1000),
+                             losses=ActorLossWeights(joints=1.0), learning_rate=1e-3)
+    if profile == "paper":
+        return ActorTraining(ActorConfig(num_classes=UESTC_CLASSES),
+                             LoopConfig(PAPER_EPOCHS["UESTC"] * UESTC_EPOCH, log_every=100, checkpoint_every=10_000))
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+def table_training(label: str, profile: str, cpu: ActorTraining) -> ActorTraining:
+    """ACTOR on the paper dataset ``label`` (``"NTU-13"``, ``"UESTC"``, ``"HumanAct12"``) in a table of
+    Tables 1-3: smoke :func:`smoke_training`; cpu the experiment's ``cpu`` training; paper the paper's model,
+    batch 20 and epochs with L_P + L_J (L_J stands in for L_V, which needs an SMPL model). The number of
+    classes is the dataset's in every profile."""
+    if label not in PAPER_EPOCHS:
+        raise ValueError(f"label: expected one of {sorted(PAPER_EPOCHS)}, got {label!r}")
+    classes = {"NTU-13": 13, "UESTC": UESTC_CLASSES, "HumanAct12": 12}[label]
+    if profile == "smoke":
+        return smoke_training(classes)
+    if profile == "cpu":
+        return dataclasses.replace(cpu, model=dataclasses.replace(cpu.model, num_classes=classes))
+    if profile == "paper":
+        steps = PAPER_EPOCHS[label] * (_PAPER_CLIPS[label] // 20)
+        return ActorTraining(ActorConfig(num_classes=classes), LoopConfig(steps, log_every=100, checkpoint_every=10_000),
+                             losses=ActorLossWeights(joints=1.0))
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")

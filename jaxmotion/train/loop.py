@@ -46,7 +46,7 @@ from jax.sharding import Mesh
 
 from jaxmotion.train.checkpoint import Checkpointer
 from jaxmotion.train.mesh import is_primary, replicate, replicated, shard_batch
-from jaxmotion.train.progress import Progress
+from jaxmotion.progress import Progress
 
 
 class StepFn(Protocol):

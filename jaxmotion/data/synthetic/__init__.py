@@ -29,6 +29,7 @@ same bytes. ``GENERATOR_VERSION`` is part of the cache file name; bump it when t
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from types import MappingProxyType
 
@@ -94,14 +95,16 @@ def _splits(variant: Variant, split: str) -> tuple[str, ...]:
     return (split,)
 
 
-def generate(name: str, split: str = "train", *, seed: int = 0, count: int | None = None) -> MotionDataset:
+def generate(name: str, split: str = "train", *, seed: int = 0, count: int | None = None,
+             progress: bool = False) -> MotionDataset:
     """Generate a split in memory (``"all"`` = every split, concatenated).
 
     ``count`` keeps only the first ``count`` sequences of each split; prefixes are class- and
-    mode-balanced, so small counts give small, representative datasets (tests, smoke runs).
+    mode-balanced, so small counts give small, representative datasets (tests, smoke runs). ``progress``:
+    a progress line with an ETA on stderr.
     """
     variant = _variant(name)
-    parts = [generate_split(variant, s, seed, count) for s in _splits(variant, split)]
+    parts = [generate_split(variant, s, seed, count, progress=progress) for s in _splits(variant, split)]
     return parts[0] if len(parts) == 1 else concatenate(parts, split="all")
 
 
@@ -116,7 +119,8 @@ def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Pat
     path = cache_path(name, split, seed=seed, cache_dir=cache_dir)
     if path.exists():
         return MotionDataset.load(path)
-    data = generate(name, split, seed=seed)
+    data = generate(name, split, seed=seed, progress=True)  # minutes for a full split: say so
+    print(f"[data] cached {name}/{split} in {path}", file=sys.stderr)
     data.save(path)
     return data
 

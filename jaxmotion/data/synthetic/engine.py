@@ -34,6 +34,7 @@ from jaxmotion.geometry.kinematics import (
     forward_kinematics_transforms,
 )
 from jaxmotion.geometry.skeletons import SMPL24
+from jaxmotion.progress import Progress
 
 _PARENTS = SMPL24.parents
 _ANKLES = (SMPL24.index("left_ankle"), SMPL24.index("right_ankle"))
@@ -220,17 +221,24 @@ def _batches(posed: Iterator[_Posed]) -> Iterator[list[_Posed]]:
         yield batch
 
 
-def generate_split(variant: Variant, split: str, seed: int, count: int | None = None) -> MotionDataset:
-    """The first ``count`` (default: all) sequences of one split, packed."""
+def generate_split(variant: Variant, split: str, seed: int, count: int | None = None, *,
+                   progress: bool = False) -> MotionDataset:
+    """The first ``count`` (default: all) sequences of one split, packed; ``progress``: a progress line with an
+    ETA on stderr (a full split takes minutes)."""
     actions, modes = schedule(variant, split)
     if count is not None:
         actions, modes = actions[:count], modes[:count]
     bodies = {s: subject(variant, s, seed) for s in variant.splits[split].subjects}
     posed = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
     parts, subjects = [], []
+    bar = Progress(len(actions), unit="sequence", label=f"[data] generating {variant.name}/{split}") if progress else None
     for batch in _batches(posed):
         subjects += [p.subject.index for p in batch]
         parts.append(_chunk(variant, batch))
+        if bar is not None:
+            bar.update(len(subjects), {})
+    if bar is not None:
+        bar.close()
     lengths = np.concatenate([np.diff(p[3]) for p in parts]) if parts else np.zeros(0, int)
     empty = np.zeros((0, 24, 3), np.float32)
     return MotionDataset(

@@ -1,0 +1,127 @@
+"""What a run was made with, for its record: the software and machine, the datasets and the evaluators.
+
+* :func:`environment`: jaxmotion's version and git commit (when run from a checkout), Python, jax and jaxlib
+  versions, the platform and the device and process counts.
+* :func:`inputs`: every dataset and evaluator a config names (found by walking it: each
+  :class:`~jaxmotion.evaluation.tables.TableData` and
+  :class:`~jaxmotion.evaluation.recognizers.RecognizerTraining`), each with what identifies its content: an
+  embedded dataset's generator version and cache file, a real dataset's absolute folder, an evaluator's
+  cache key. A folder whose inputs differ from the ones it was made with is not resumed.
+* :func:`evaluators`: after a run, each evaluator's cache key and held-out accuracy (its ``recognizer.json``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import importlib.metadata
+import json
+import platform
+import subprocess
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import jax
+
+from jaxmotion.data import synthetic
+from jaxmotion.evaluation.recognizers import RecognizerTraining, cache_folder
+from jaxmotion.evaluation.tables import TableData
+
+
+@functools.lru_cache(maxsize=1)
+def _git_commit() -> str | None:
+    """The checkout's commit (with ``-dirty`` when it has uncommitted changes), or None outside a checkout."""
+    root = Path(__file__).resolve().parent.parent
+    try:
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=10,
+                                check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+                               capture_output=True, text=True, timeout=10, check=True).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return f"{commit}-dirty" if dirty else commit
+
+
+def _version(package: str) -> str | None:
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return None
+
+
+def environment() -> dict[str, Any]:
+    """The software and machine this process runs on."""
+    return {
+        "jaxmotion": _version("jaxmotion"),
+        "git_commit": _git_commit(),
+        "python": platform.python_version(),
+        "jax": jax.__version__,
+        "jaxlib": _version("jaxlib"),
+        "platform": jax.default_backend(),
+        "devices": jax.device_count(),
+        "local_devices": jax.local_device_count(),
+        "processes": jax.process_count(),
+    }
+
+
+def _walk(value: Any) -> Iterator[Any]:
+    """Every dataclass instance inside a config, depth first."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        yield value
+        for field in dataclasses.fields(value):
+            yield from _walk(getattr(value, field.name))
+    elif isinstance(value, (tuple, list)):
+        for item in value:
+            yield from _walk(item)
+
+
+def _dataset(name: str, split: str, seed: int, count: int | None, data_root: str | None) -> dict[str, Any]:
+    entry: dict[str, Any] = {"name": name, "split": split, "count": count}
+    if name in synthetic.VARIANTS:
+        entry.update(seed=seed, generator_version=synthetic.GENERATOR_VERSION,
+                     cache_file=None if count is not None else synthetic.cache_path(name, split, seed=seed).name)
+    else:
+        entry["data_root"] = None if data_root is None else str(Path(data_root).resolve())
+    return entry
+
+
+def _evaluator_datasets(spec: RecognizerTraining, data_root: str | None) -> list[dict[str, Any]]:
+    variant = synthetic.VARIANTS.get(spec.dataset)
+    held_out = (("test", spec.data_seed) if variant is None or "test" in variant.splits
+                else ("train", spec.test_data_seed))
+    return [_dataset(spec.dataset, "train", spec.data_seed, spec.count, data_root),
+            _dataset(spec.dataset, held_out[0], held_out[1], spec.count, data_root)]
+
+
+def inputs(config: Any, data_root: str | None = None) -> dict[str, Any]:
+    """The datasets and evaluators ``config`` names, each identified by what determines its content."""
+    datasets, evaluators = [], []
+    for item in _walk(config):
+        if isinstance(item, TableData):
+            splits = ("train", "test") if item.test_split else ("train",)
+            datasets += [_dataset(item.name, split, item.seed, item.count, data_root) for split in splits]
+        elif isinstance(item, RecognizerTraining):
+            evaluators.append({"name": item.name, "cache_key": cache_folder(item, data_root=data_root).name})
+            datasets += _evaluator_datasets(item, data_root)
+    return {"datasets": _unique(datasets), "evaluators": _unique(evaluators)}
+
+
+def _unique(entries: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Entries once each, in a stable order."""
+    unique = {json.dumps(e, sort_keys=True): e for e in entries}
+    return [unique[k] for k in sorted(unique)]
+
+
+def evaluators(config: Any, data_root: str | None = None) -> list[dict[str, Any]]:
+    """Each evaluator ``config`` names: its cache key and, once trained, its held-out accuracy."""
+    out = []
+    for item in _walk(config):
+        if isinstance(item, RecognizerTraining):
+            folder = cache_folder(item, data_root=data_root)
+            record_path = folder / "recognizer.json"
+            held_out = json.loads(record_path.read_text())["held_out"] if record_path.exists() else None
+            out.append({"name": item.name, "cache_key": folder.name,
+                        "held_out_accuracy": None if held_out is None else held_out["accuracy"],
+                        "held_out_clips": None if held_out is None else held_out["clips"]})
+    return _unique(out)

@@ -1,0 +1,5 @@
+"""Pictures of experiments: curves and plots (matplotlib, no display needed)."""
+
+from jaxmotion.viz.plots import save_curves
+
+__all__ = ["save_curves"]
