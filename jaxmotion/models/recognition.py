@@ -248,7 +248,9 @@ class Recognizer:
 
     ``motions`` is a mapping as :func:`recognizer_inputs` reads it (the pipeline's batches and the
     generators' outputs are such mappings), with an optional ``lengths [B]``. Large sets are processed in
-    chunks of ``chunk`` sequences (one shape, one compilation).
+    chunks of ``chunk`` sequences (one shape, one compilation). ``mesh``: a data mesh
+    (:func:`jaxmotion.train.mesh.data_mesh`) over whose devices each chunk is split, the variables
+    replicated on it; ``None``: one device.
     """
 
     config: RecognizerConfig
@@ -256,6 +258,7 @@ class Recognizer:
     class_names: tuple[str, ...]
     variables: Any
     chunk: int = 1000
+    mesh: Any = None
 
     @property
     def num_classes(self) -> int:
@@ -268,7 +271,13 @@ class Recognizer:
                                     motions.get("lengths"))[0]
 
         object.__setattr__(self, "_forward", jax.jit(forward))
+        if self.mesh is None:
+            object.__setattr__(self, "_variables", self.variables)
+        else:
+            from jaxmotion.train.mesh import replicate  # the loop's module; imported lazily
+
+            object.__setattr__(self, "_variables", replicate(self.variables, self.mesh))
 
     def __call__(self, motions: Mapping[str, Any]) -> tuple[jax.Array, jax.Array]:
         rows = {k: motions[k] for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None}
-        return map_in_chunks(lambda _, part: self._forward(self.variables, part), rows, self.chunk)
+        return map_in_chunks(lambda _, part: self._forward(self._variables, part), rows, self.chunk, mesh=self.mesh)

@@ -156,3 +156,12 @@ def _from_global(value: np.ndarray, sharding: NamedSharding) -> jax.Array:
 def is_primary() -> bool:
     """True in the process that writes logs and reports progress (process 0)."""
     return jax.process_index() == 0
+
+
+def gather(array: Any) -> np.ndarray:
+    """A (possibly sharded) array as one host array, on every process."""
+    if jax.process_count() > 1 and isinstance(array, jax.Array) and not array.is_fully_addressable:
+        from jax.experimental import multihost_utils
+
+        return np.asarray(multihost_utils.process_allgather(array, tiled=True))
+    return np.asarray(array)

@@ -1,0 +1,96 @@
+"""Data-parallel training and evaluation: the mesh helpers, ACTOR on 4 host devices against 1, kill and
+resume on 4 devices, and two processes of 2 devices each against one process of 4.
+
+Multi-device runs are subprocesses with ``XLA_FLAGS=--xla_force_host_platform_device_count=N`` (a process
+fixes its device count when JAX starts); they share this session's compilation cache.
+"""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+import actor_mesh_run  # noqa: E402
+from test_actor_resume import SCRIPT, assert_runs_bitwise_equal, data_file, kill_after_checkpoint  # noqa: E402, F401
+
+from jaxmotion.train import data_mesh, initialize_distributed  # noqa: E402
+
+CHECKS = Path(__file__).with_name("mesh_checks.py")
+# Adam's steps are ~lr whatever the gradient's size, so float32 sums in another order can move a parameter
+# whose gradient is near zero by up to lr per step; measured differences are ~5e-5 after 20 steps.
+ATOL, RTOL = 5e-4, 1e-3
+
+
+def test_distributed_set_up_is_a_no_op_without_its_variables():
+    assert initialize_distributed({}) is False
+    assert data_mesh().shape == {"data": 1}  # this process: one CPU device
+
+
+def test_distributed_set_up_names_the_missing_variables():
+    with pytest.raises(ValueError, match="JAXMOTION_NUM_PROCESSES, JAXMOTION_PROCESS_ID missing"):
+        initialize_distributed({"JAXMOTION_COORDINATOR": "127.0.0.1:1234"})
+
+
+@pytest.mark.slow
+def test_mesh_helpers_and_protocol_passes_on_four_devices():
+    """Sharding and replication, the divisibility error, and map_in_chunks / generate / Recognizer on a mesh
+    giving the one-device numbers (tests/mesh_checks.py)."""
+    result = subprocess.run([sys.executable, str(CHECKS)], env=actor_mesh_run.subprocess_env(4),
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "mesh checks passed" in result.stdout
+
+
+@pytest.fixture(scope="module")
+def four_device_runs(tmp_path_factory, data_file):  # noqa: F811
+    """ACTOR smoke training, 20 steps, on meshes of 1 and of 4 devices, in one 4-device process."""
+    out = tmp_path_factory.mktemp("runs")
+    subprocess.run([sys.executable, str(SCRIPT), "--data", str(data_file), "--out", str(out), "--devices", "1,4"],
+                   env=actor_mesh_run.subprocess_env(4), check=True, capture_output=True)
+    return out
+
+
+@pytest.mark.slow
+def test_actor_on_four_devices_matches_one_device(four_device_runs):
+    one = actor_mesh_run.load_params(four_device_runs / "devices-1")
+    four = actor_mesh_run.load_params(four_device_runs / "devices-4")
+    for a, b in zip(one, four, strict=True):
+        np.testing.assert_allclose(a, b, rtol=RTOL, atol=ATOL)
+    assert any(not np.array_equal(a, b) for a, b in zip(one, four))  # really another program
+
+
+@pytest.mark.slow
+def test_actor_on_four_devices_reruns_and_resumes_bitwise(tmp_path, data_file, four_device_runs):  # noqa: F811
+    """A second 4-device run, SIGKILLed after its step-10 checkpoint and restarted, ends bitwise equal to the
+    first (rerun determinism and resume onto the mesh in one)."""
+    args = ["--data", str(data_file), "--out", str(tmp_path), "--devices", "4", "--step-sleep-s", "0.3"]
+    env = actor_mesh_run.subprocess_env(4)
+    killed_at = kill_after_checkpoint(args, env, tmp_path / "devices-4", 10)
+    resumed = subprocess.run([sys.executable, str(SCRIPT), *args], env=env, check=True, capture_output=True,
+                             text=True)
+    assert f"resuming from the checkpoint at step {killed_at}" in resumed.stderr
+    assert_runs_bitwise_equal(four_device_runs / "devices-4", tmp_path / "devices-4")
+
+
+@pytest.mark.slow
+def test_two_processes_of_two_devices_match_one_process_of_four(tmp_path, data_file, four_device_runs):  # noqa: F811
+    """Two processes on 127.0.0.1 (gloo CPU collectives), one shared run folder (orbax writes the checkpoints
+    of both), against the one-process 4-device run."""
+    shared = {"JAXMOTION_COORDINATOR": f"127.0.0.1:{actor_mesh_run.free_port()}", "JAXMOTION_NUM_PROCESSES": "2"}
+    args = [sys.executable, str(SCRIPT), "--data", str(data_file), "--out", str(tmp_path), "--devices", "0"]
+    procs = [subprocess.Popen(args, env=actor_mesh_run.subprocess_env(2, **shared, JAXMOTION_PROCESS_ID=str(i)),
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True) for i in range(2)]
+    try:
+        logs = [p.communicate(timeout=600)[0] for p in procs]
+    finally:
+        for p in procs:
+            p.kill()
+    assert [p.returncode for p in procs] == [0, 0], "\n".join(log[-2000:] for log in logs)
+    two = actor_mesh_run.load_params(tmp_path / "devices-0")
+    four = actor_mesh_run.load_params(four_device_runs / "devices-4")
+    for a, b in zip(two, four, strict=True):
+        np.testing.assert_allclose(a, b, rtol=RTOL, atol=ATOL)
+    assert sorted(p.name for p in (tmp_path / "devices-0" / "checkpoints").iterdir()) == ["10", "20"]
