@@ -1,0 +1,67 @@
+"""Method-agnostic tables: rows are recipes trained from one key in their own folders, scored together."""
+
+import numpy as np
+import pytest
+
+from jaxmotion.evaluation.tables import (
+    ACTOR_COLUMNS,
+    fit_rows,
+    interleave_reported,
+    paper_columns,
+    slug,
+    table_dataset,
+)
+
+
+class Recorder:
+    """A recipe that records what it was trained with and samples a constant."""
+
+    def __init__(self, calls, value):
+        self.calls, self.value = calls, value
+
+    def fit(self, data, key, workdir=None, **options):
+        self.calls.append((data, key, workdir, options))
+        return self.value
+
+    def sampler(self, params, skeleton):
+        return lambda key, actions, durations: {"params": params, "skeleton": skeleton}
+
+
+class Data:
+    skeleton = "SMPL-24"
+
+
+def test_every_row_trains_from_the_same_key_in_its_own_folder(tmp_path):
+    calls = []
+    samplers = fit_rows({"w/o µ/Σ tokens": Recorder(calls, 1), "GRU": Recorder(calls, 2)}, Data(), "KEY", tmp_path,
+                        mesh="MESH")
+    assert [c[1] for c in calls] == ["KEY", "KEY"]
+    assert [c[2] for c in calls] == [tmp_path / "w-o-tokens", tmp_path / "gru"]
+    assert all(c[3] == {"mesh": "MESH"} for c in calls)
+    assert samplers["GRU"](None, None, None) == {"params": 2, "skeleton": "SMPL-24"}
+    with pytest.raises(ValueError, match="distinct folder names"):
+        fit_rows({"a b": Recorder([], 0), "a-b": Recorder([], 0)}, Data(), "KEY", tmp_path)
+
+
+def test_paper_columns_rename_in_the_paper_order_with_accuracy_in_percent():
+    rows = {"X": {"diversity": [1.0], "accuracy": [0.5, 0.7], "FID_train": [2.0], "FID_test": [3.0], "other": [9]}}
+    out = paper_columns(rows)
+    assert list(out["X"]) == ["FID_tr", "FID_test", "Acc. (%)", "Div."]
+    np.testing.assert_allclose(out["X"]["Acc. (%)"], [50.0, 70.0])
+    assert "other" not in out["X"] and set(ACTOR_COLUMNS) >= {"FID_train", "accuracy"}
+
+
+def test_reported_rows_follow_their_measured_row():
+    table = interleave_reported({"Real": {"a": 1}, "GRU": {"a": 2}}, {"GRU": {"a": 3}, "CondGRU": {"a": 4}},
+                                ["Real", "CondGRU", "GRU"])
+    assert list(table) == ["Real", "CondGRU (reported)", "GRU", "GRU (reported)"]
+
+
+def test_table_datasets_use_the_stand_in_and_its_evaluator_in_each_profile():
+    smoke, cpu = table_dataset("NTU-13", "smoke"), table_dataset("NTU-13", "cpu")
+    assert smoke.data.name == "synth-ntu13" and smoke.data.count == 80 and not smoke.data.test_split
+    assert cpu.data.count is None and cpu.evaluator.name == "synth-ntu13/gru"
+    assert table_dataset("UESTC", "paper").protocol.repetitions == 20
+    with pytest.raises(ValueError, match="label"):
+        table_dataset("NTU-120", "cpu")
+    assert slug("(c) w/o bias token") == "c-w-o-bias-token"
