@@ -38,8 +38,8 @@ class ActorAblationBatchConfig(experiment.Sweep):
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_batch", ActorAblationBatchConfig, experiment.run_sweep, argv, description=__doc__,
-                           claims=CLAIMS)
+    return experiment.main("actor_ablation_batch", ActorAblationBatchConfig, experiment.run_sweep, argv,
+                           description=__doc__, claims=CLAIMS)
 
 
 if __name__ == "__main__":

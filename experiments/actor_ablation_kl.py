@@ -38,8 +38,8 @@ class ActorAblationKlConfig(experiment.Sweep):
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_kl", ActorAblationKlConfig, experiment.run_sweep, argv, description=__doc__,
-                           claims=CLAIMS)
+    return experiment.main("actor_ablation_kl", ActorAblationKlConfig, experiment.run_sweep, argv,
+                           description=__doc__, claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -39,8 +39,8 @@ class ActorAblationLayersConfig(experiment.Sweep):
 
 
 def main(argv=None):
-    return experiment.main("actor_ablation_layers", ActorAblationLayersConfig, experiment.run_sweep, argv, description=__doc__,
-                           claims=CLAIMS)
+    return experiment.main("actor_ablation_layers", ActorAblationLayersConfig, experiment.run_sweep, argv,
+                           description=__doc__, claims=CLAIMS)
 
 
 if __name__ == "__main__":

@@ -130,7 +130,7 @@ def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
 def run(config: ActorArchitectureConfig, ctx: experiment.RunContext):
     trainings = {config.uestc.label: config.uestc_training, config.ntu13.label: config.ntu13_training}
     rows = run_tables((config.uestc, config.ntu13), lambda table: architecture_variants(trainings[table.label]),
-                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root)
+                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, list(REPORTED))
 
 

@@ -107,7 +107,7 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
         if len(part) < max(training.batch_size, spec.batch_size):
             raise ValueError(f"fractions: {column} of {train.name} keeps {len(part)} clips, fewer than a batch "
                              f"(training.batch_size {training.batch_size}, recognizer.batch_size {spec.batch_size})")
-        params = training.fit(part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"))
+        params = training.fit(part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"), mesh=ctx.mesh)
         labels = np.resize(part.actions, len(train))
         generated = generate_motions(params, training.model, ctx.key("generate"), labels,
                                      np.full(len(labels), training.window), train.skeleton,

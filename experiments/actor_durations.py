@@ -100,18 +100,18 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
     fixed, variable = config.training, config.variable()
-    fixed_params = fixed.fit(train, ctx.key("train"), ctx.workdir / slug(FIXED))
+    fixed_params = fixed.fit(train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh)
     # the fine-tune starts from the fixed run's last checkpoint (its parameters, AdamW moments and step), with
     # the same key, so the data order goes on; an interrupted fine-tune resumes from its own checkpoints
     variable_params = variable.fit(train, ctx.key("train"), ctx.workdir / slug(VARIABLE),
-                                   init_from=ctx.workdir / slug(FIXED))
+                                   init_from=ctx.workdir / slug(FIXED), mesh=ctx.mesh)
     samplers = {FIXED: fixed.sampler(fixed_params, train.skeleton),
                 VARIABLE: variable.sampler(variable_params, train.skeleton)}
     rows: dict[str, dict[str, np.ndarray]] = {}
     for duration in config.durations:
         protocol = dataclasses.replace(config.table.protocol, duration=duration)
         scores = paper_columns(score_rows(ctx.key("eval"), samplers, real, config.table.evaluator, protocol,
-                                          data_root=ctx.data_root))
+                                          data_root=ctx.data_root, mesh=ctx.mesh))
         for row, cells in scores.items():
             rows.setdefault(row, {}).update({f"Acc. (%) @{duration}": cells["Acc. (%)"],
                                              f"FID_tr @{duration}": cells["FID_tr"]})

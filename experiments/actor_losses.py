@@ -169,7 +169,7 @@ def run(config: ActorLossesConfig, ctx: experiment.RunContext):
         variants = loss_variants(trainings[table.label], body is not None)
         return {name: WithBody(training, body) for name, training in variants.items()}
 
-    rows = run_tables((config.uestc, config.ntu13), rows_of, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root)
+    rows = run_tables((config.uestc, config.ntu13), rows_of, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
     table = {}
     for label, reported in REPORTED.items():
         name = row_name(label, body is not None)

@@ -121,7 +121,7 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
     real = real_sets(config.data, ctx.data_root)
     train, test, training = real["train"], real["test"], config.training
     skeleton, model = train.skeleton, training.model
-    params = training.fit(train, ctx.key("train"), ctx.workdir / "actor")
+    params = training.fit(train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
 
     def pack(motions: dict, name: str, split: str) -> MotionDataset:
         return to_dataset(motions, skeleton, train.class_names, train.fps, name=name, split=split)

@@ -116,7 +116,7 @@ def run(config: ActorSotaConfig, ctx: experiment.RunContext):
         config.humanact12.label: {"Action2Motion": config.a2m_humanact12, "ACTOR": config.humanact12_training},
     }
     rows = run_tables((config.ntu13, config.humanact12), lambda table: rows_by_label[table.label],
-                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root)
+                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

@@ -60,10 +60,10 @@ class ActorUestcConfig(experiment.ProfileConfig):
 def run(config: ActorUestcConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
-    params = config.training.fit(train, ctx.key("train"), ctx.workdir / "actor")
+    params = config.training.fit(train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
     samplers = {"ACTOR": config.training.sampler(params, train.skeleton)}
     rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, config.table.evaluator, config.table.protocol,
-                                    data_root=ctx.data_root))
+                                    data_root=ctx.data_root, mesh=ctx.mesh))
     generated = generation_grid(params, config.training.model, ctx.key("pictures"), train.skeleton,
                                 train.class_names, train.fps, min(config.picture_actions, train.num_classes),
                                 ctx.workdir / "generated.gif")

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 import json
 import sys
 import zlib
@@ -28,6 +29,7 @@ from typing import Any, ClassVar
 
 import jax
 import numpy as np
+from jax.sharding import Mesh
 
 from jaxmotion import config as cfglib
 from jaxmotion import provenance
@@ -37,6 +39,7 @@ from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.tables import run_table
+from jaxmotion.train.mesh import data_mesh, initialize_distributed
 from jaxmotion.evaluation.table import format_table
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
@@ -56,6 +59,13 @@ class RunContext:
     workdir: Path
     data_root: str | None = None
     export_formats: tuple[str, ...] = ()  # --export: formats of jaxmotion.data.export for generated motions
+    devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
+
+    @functools.cached_property
+    def mesh(self) -> Mesh | None:
+        """The data-parallel mesh training and evaluation run on, or None on one device (the plain path)."""
+        count = jax.device_count() if self.devices is None else self.devices
+        return None if count == 1 else data_mesh(count)
 
     def key(self, stream: str) -> jax.Array:
         """An independent PRNG key per named stream (``"init"``, ``"train"``, ``"eval"``, ...).
@@ -83,7 +93,7 @@ class RunContext:
             "data_root": self.data_root,
             "config_class": f"{type(config).__module__}.{type(config).__qualname__}",
             "config": cfglib.to_dict(config),
-            "environment": provenance.environment(),
+            "environment": {**provenance.environment(), "mesh_devices": 1 if self.mesh is None else self.mesh.size},
         }
 
 
@@ -138,18 +148,18 @@ class Sweep(ProfileConfig):
 def run_sweep(config: Sweep, ctx: RunContext) -> Rows:
     """A :class:`Sweep`'s table: every row trained from the ``"train"`` key and scored from ``"eval"``."""
     return run_table(config.rows(), config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                     eval_key=ctx.key("eval"), data_root=ctx.data_root)
+                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
 
 
 RunFn = Callable[[Any, RunContext], Rows]
 
 
 def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
-             data_root: str | None = None, claims: Sequence[Claim] = (),
-             export_formats: Sequence[str] = ()) -> dict[str, Any]:
+             data_root: str | None = None, claims: Sequence[Claim] = (), export_formats: Sequence[str] = (),
+             devices: int | None = None) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root,
-                     tuple(export_formats))
+                     tuple(export_formats), devices)
     ctx.workdir.mkdir(parents=True, exist_ok=True)
     record = {**ctx.record(config), "inputs": provenance.inputs(config, data_root)}
     config_path, metrics_path = ctx.workdir / "config.json", ctx.workdir / "metrics.json"
@@ -217,6 +227,9 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     ``claims``: what the paper claims from this table (checked on every run, written with the table)."""
     check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
+    initialize_distributed()  # joins a multi-process run when its environment variables are set
+    if args.devices is not None and not 1 <= args.devices <= jax.device_count():
+        raise SystemExit(f"--devices: expected 1 to {jax.device_count()} (the devices JAX sees), got {args.devices}")
     try:
         config = cfglib.apply_overrides(getattr(config_cls, args.profile)(), args.set)
     except (cfglib.ConfigError, ValueError) as err:
@@ -230,7 +243,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
-                                      export_formats=_parse_formats(args.export))
+                                      export_formats=_parse_formats(args.export), devices=args.devices)
         except RunConflictError as err:
             raise SystemExit(f"{name}: {err}") from None
     if len(seeds) == 1:
@@ -273,6 +286,8 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
     p.add_argument("--data-root", help="folder with the real dataset files (default: the embedded dataset)")
     p.add_argument("--set", action="extend", nargs="+", default=[], metavar="FIELD=VALUE",
                    help="override config fields, e.g. --set train.steps=500 model.layers=4")
+    p.add_argument("--devices", type=int, default=None, metavar="N",
+                   help="data-parallel over N devices (default: all of them; 1: a single device)")
     p.add_argument("--export", default="", metavar="FORMATS",
                    help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
                         "under <seed folder>/export/")

@@ -172,3 +172,56 @@ def test_config_class_must_be_frozen_with_all_profiles():
     with pytest.raises(TypeError, match=r"\['paper'\]"):
         experiment.check_config_class(NoPaper)
     experiment.check_config_class(toy_experiment.ToyConfig)
+
+
+def test_run_record_holds_the_environment_and_resume_with_other_inputs_is_refused(tmp_path):
+    result = _run_toy(tmp_path)
+    path = _seed_dir(tmp_path) / "config.json"
+    record = json.loads(path.read_text())
+    env = record["environment"]
+    assert env["jax"] == jax.__version__ and env["platform"] == "cpu" and env["devices"] >= 1
+    assert env["mesh_devices"] == 1 and record["inputs"] == {"datasets": [], "evaluators": []}
+    assert result["run"]["environment"] == env and result["claims"] == []
+    # another dataset generator (or evaluator) behind the same config: refused, with the difference listed
+    record["inputs"]["datasets"] = [{"name": "synth-uestc", "generator_version": 0}]
+    path.write_text(json.dumps(record))
+    (_seed_dir(tmp_path) / "metrics.json").unlink()
+    with pytest.raises(SystemExit, match=r"different config or inputs(.|\n)*inputs.datasets"):
+        _run_toy(tmp_path)
+
+
+def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
+    _run_toy(tmp_path)
+    path = _seed_dir(tmp_path) / "config.json"
+    record = json.loads(path.read_text())
+    record["environment"]["jax"] = "0.0.1"
+    path.write_text(json.dumps(record))
+    (_seed_dir(tmp_path) / "metrics.json").unlink()
+    _run_toy(tmp_path)
+    assert "resuming in another environment" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args, message", [(["--devices", "0"], "--devices: expected 1 to"),
+                                           (["--export", "fbx"], "--export: unknown formats")])
+def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):
+    with pytest.raises(SystemExit, match=message):
+        _run_toy(tmp_path, *args)
+
+
+def test_the_run_context_exports_generated_motions_in_the_requested_formats(tmp_path):
+    from jaxmotion.data import Motion, pack
+    from jaxmotion.geometry import SMPL24, axis_angle_to_matrix, forward_kinematics
+
+    rotations = 0.2 * np.asarray(jax.random.normal(jax.random.key(0), (2, 5, 24, 3)))
+    joints = np.asarray(forward_kinematics(axis_angle_to_matrix(rotations), np.zeros((2, 5, 3)), SMPL24.offsets,
+                                           SMPL24.parents))
+    data = pack([Motion(joints=j, translation=np.zeros((5, 3), np.float32), rotations=r, action=0, name=f"m{i}")
+                 for i, (j, r) in enumerate(zip(joints.astype(np.float32), rotations.astype(np.float32)))],
+                name="gen", split="generated", class_names=("a",), skeleton=SMPL24, fps=20.0)
+    ctx = experiment.RunContext("toy", "smoke", 0, tmp_path, export_formats=("bvh", "npy"))
+    assert ctx.export(data) is data
+    assert sorted(p.name for p in (tmp_path / "export" / "generated").iterdir()) == [
+        "m0.bvh", "m0.npy", "m1.bvh", "m1.npy"]
+    silent = experiment.RunContext("toy", "smoke", 0, tmp_path / "none")
+    silent.export(data)
+    assert not (tmp_path / "none").exists()

@@ -29,6 +29,7 @@ from typing import Any, Protocol
 
 import jax
 import numpy as np
+from jax.sharding import Mesh
 
 from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import load_dataset
@@ -118,11 +119,11 @@ def fit_rows(rows: Mapping[str, Recipe], data: MotionDataset, key: jax.Array, wo
 
 def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[str, MotionDataset],
                evaluator: RecognizerTraining, protocol: ProtocolConfig, *, data_root: str | None = None,
-               **protocol_options) -> dict[str, dict[str, list[float]]]:
-    """Score ``samplers`` with the ``evaluator`` under ``protocol``; rows in the protocol's metric names,
-    the Real row last. ``protocol_options`` go to :func:`~jaxmotion.evaluation.protocol.evaluate`."""
+               mesh: Mesh | None = None) -> dict[str, dict[str, list[float]]]:
+    """Score ``samplers`` with the ``evaluator`` under ``protocol`` (generation and recogniser passes sharded
+    on ``mesh`` when given); rows in the protocol's metric names, the Real row last."""
     recognizer, _ = trained_recognizer(evaluator, data_root=data_root)
-    rows = evaluate(key, samplers, recognizer, real, protocol, **protocol_options)
+    rows = evaluate(key, samplers, recognizer, real, protocol, mesh=mesh)
     return {**{name: rows[name] for name in samplers}, "Real": rows["Real"]}
 
 
@@ -208,19 +209,19 @@ def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CP
 
 def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
               eval_key: jax.Array, data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS,
-              **options) -> dict[str, dict[str, np.ndarray]]:
+              mesh: Mesh | None = None) -> dict[str, dict[str, np.ndarray]]:
     """A table on one dataset: load it, train every row (:func:`fit_rows` in ``workdir``), score them
-    together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``options``: the
-    loop's and the protocol's ``mesh``."""
+    together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``mesh``: train and
+    evaluate data-parallel on it (None: one device)."""
     real = real_sets(table.data, data_root)
-    samplers = fit_rows(rows, real["train"], train_key, workdir, **options)
+    samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
     return paper_columns(score_rows(eval_key, samplers, real, table.evaluator, table.protocol, data_root=data_root,
-                                    **options), columns)
+                                    mesh=mesh), columns)
 
 
 def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Recipe]], *,
                workdir: str | Path, key: Callable[[str], jax.Array], data_root: str | None = None,
-               columns: Mapping[str, str] = ACTOR_COLUMNS, **options) -> dict[str, dict[str, Any]]:
+               columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None) -> dict[str, dict[str, Any]]:
     """A table over several datasets, side by side: on each, the rows ``rows_of(dataset)`` train in
     ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``."""
     labels = [table.label for table in tables]
@@ -229,5 +230,5 @@ def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset],
     return side_by_side({table.label: run_table(rows_of(table), table, workdir=Path(workdir) / slug(table.label),
                                                 train_key=key(f"train {table.label}"),
                                                 eval_key=key(f"eval {table.label}"), data_root=data_root,
-                                                columns=columns, **options)
+                                                columns=columns, mesh=mesh)
                          for table in tables})
