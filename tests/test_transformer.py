@@ -12,7 +12,6 @@ from jaxmotion.nn.transformer import (
     AttentionParams,
     decoder_layer,
     decoder_stack,
-    dropout_bits,
     encoder_layer,
     encoder_stack,
     init_decoder_layer,
@@ -282,21 +281,6 @@ def test_dropout_only_with_a_key_and_reproducible(enc):
     np.testing.assert_array_equal(a, run(jax.random.key(0)))
     zero_rate = encoder_layer(enc, x, num_heads=H, dropout_rate=0.0, dropout_key=jax.random.key(0))
     np.testing.assert_array_equal(zero_rate, eval_out)
-
-
-def test_dropout_bits_behave_like_independent_fair_coins():
-    n = 1 << 16
-    bits = np.asarray(dropout_bits(jax.random.key(3), (4, n // 4))).ravel()
-    other = np.asarray(dropout_bits(jax.random.key(4), (4, n // 4))).ravel()
-    per_bit = ((bits[:, None] >> np.arange(32, dtype=np.uint32)) & 1).mean(0)
-    tolerance = 5 * 0.5 / np.sqrt(n)  # five standard errors of a fair coin's frequency
-    assert np.all(np.abs(per_bit - 0.5) < tolerance), per_bit
-    keep = bits >= np.uint32(round(0.1 * 2**32))
-    assert abs(keep.mean() - 0.9) < 5 * np.sqrt(0.09 / n)
-    # neighbours (the hash's input counter differs by one) and another key: no more agreement than chance
-    for a, b in ((keep[1:], keep[:-1]), (keep, other >= np.uint32(round(0.1 * 2**32)))):
-        assert abs((a == b).mean() - 0.82) < 5 * np.sqrt(0.82 * 0.18 / n)
-    np.testing.assert_array_equal(bits, np.asarray(dropout_bits(jax.random.key(3), (4, n // 4))).ravel())
 
 
 # ------------------------------------------------------------------------------------------------- stacks

@@ -33,14 +33,15 @@ import numpy as np
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.nn.core import LinearParams, init_linear, linear
 from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
-from jaxmotion.nn.stgcn import STGCN
+from jaxmotion.nn.stgcn import init_stgcn, spatial_partition, stgcn
 
 
 class A2MRecognizerParams(NamedTuple):
     layers: tuple[GRUParams, ...]
-    linear1: tuple[jax.Array, jax.Array]  # weight [30, H], bias [30]
-    linear2: tuple[jax.Array, jax.Array]  # weight [C, 30], bias [C]
+    linear1: LinearParams  # [30, H], [30]
+    linear2: LinearParams  # [C, 30], [C]
 
 
 def load_a2m_params(npz_path: str | Path) -> A2MRecognizerParams:
@@ -69,8 +70,8 @@ def load_a2m_params(npz_path: str | Path) -> A2MRecognizerParams:
         if layer.w_ih.shape != (3 * hidden, expected_in) or layer.w_hh.shape != (3 * hidden, hidden):
             raise ValueError(f"{path}: GRU layer {i} has weight_ih {layer.w_ih.shape}, weight_hh {layer.w_hh.shape}; "
                              f"expected [{3 * hidden}, {expected_in}] and [{3 * hidden}, {hidden}]")
-    return A2MRecognizerParams(layers, (take("linear1.weight"), take("linear1.bias")),
-                               (take("linear2.weight"), take("linear2.bias")))
+    return A2MRecognizerParams(layers, LinearParams(take("linear1.weight"), take("linear1.bias")),
+                               LinearParams(take("linear2.weight"), take("linear2.bias")))
 
 
 def a2m_recognize(params: A2MRecognizerParams, motions: jax.Array, lengths: jax.Array | None = None,
@@ -92,8 +93,8 @@ def a2m_recognize(params: A2MRecognizerParams, motions: jax.Array, lengths: jax.
     xs = gru_stack(params.layers, jnp.swapaxes(motions, 0, 1), tuple(starts))  # [T, B, H]
     last = jnp.full((batch,), frames - 1) if lengths is None else jnp.asarray(lengths) - 1
     top = xs[last, jnp.arange(batch)]  # [B, H]
-    features = jnp.tanh(top @ params.linear1[0].T + params.linear1[1])
-    return features @ params.linear2[0].T + params.linear2[1], features
+    features = jnp.tanh(linear(params.linear1, top))
+    return linear(params.linear2, features), features
 
 
 def load_a2m_recognizer(npz_path: str | Path) -> Callable[..., tuple[jax.Array, jax.Array]]:
@@ -190,37 +191,31 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
     return from_matrix(axis_angle_to_matrix(rotations), "rot6d")
 
 
-def _torch_uniform(key: jax.Array, shape: tuple[int, ...], fan_in: int) -> jax.Array:
-    """PyTorch's default init for GRU and Linear weights and biases: U(-1/sqrt(fan_in), 1/sqrt(fan_in))."""
-    bound = 1.0 / np.sqrt(fan_in)
-    return jax.random.uniform(key, shape, jnp.float32, -bound, bound)
-
-
 def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden: int = 128, layers: int = 2,
                         feature_dim: int = 30) -> A2MRecognizerParams:
     """Fresh Action2Motion-layout classifier parameters (PyTorch's default initialisation)."""
-    k_gru, k1w, k1b, k2w, k2b = jax.random.split(key, 5)
+    k_gru, k_1, k_2 = jax.random.split(key, 3)
     grus = [init_gru(k, input_dim if i == 0 else hidden, hidden) for i, k in enumerate(jax.random.split(k_gru, layers))]
-    linear1 = (_torch_uniform(k1w, (feature_dim, hidden), hidden), _torch_uniform(k1b, (feature_dim,), hidden))
-    linear2 = (_torch_uniform(k2w, (num_classes, feature_dim), feature_dim),
-               _torch_uniform(k2b, (num_classes,), feature_dim))
-    return A2MRecognizerParams(tuple(grus), linear1, linear2)
+    return A2MRecognizerParams(tuple(grus), init_linear(k_1, hidden, feature_dim),
+                               init_linear(k_2, feature_dim, num_classes))
 
 
-def _stgcn(config: RecognizerConfig, skeleton: Skeleton, num_classes: int) -> STGCN:
-    return STGCN(num_classes=num_classes, parents=skeleton.parents, center=0, channels=config.channels,
-                 strides=config.strides, temporal_kernel=config.temporal_kernel, dropout=config.dropout)
+def _stgcn_graph(skeleton: Skeleton) -> np.ndarray:
+    """The ST-GCN's spatial graph ``[3, J, J]``, centred on the root as ACTOR's evaluator."""
+    return spatial_partition(skeleton.parents, center=0)
 
 
 def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton, num_classes: int,
                     frames: int = 60) -> dict[str, Any]:
-    """Fresh variables ``{"params": ..., ["batch_stats": ...]}`` for inputs of ``frames`` frames."""
+    """Fresh variables ``{"params": ..., ["batch_stats": ...]}``; no size depends on ``frames`` (kept so
+    every architecture's init has one signature)."""
     channels = 3 if config.inputs == "joints" else 6
     if config.architecture == "gru":
         return {"params": init_gru_recognizer(key, skeleton.num_joints * channels, num_classes, config.hidden,
                                               config.layers, config.feature_dim)}
-    dummy = jnp.zeros((1, frames, skeleton.num_joints, channels), jnp.float32)
-    return dict(_stgcn(config, skeleton, num_classes).init(key, dummy, train=False))
+    params, stats = init_stgcn(key, _stgcn_graph(skeleton), channels, num_classes, channels=config.channels,
+                               strides=config.strides, temporal_kernel=config.temporal_kernel)
+    return {"params": params, "batch_stats": stats}
 
 
 def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: int, variables: Mapping[str, Any],
@@ -235,11 +230,9 @@ def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: 
     if config.architecture == "gru":
         outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
         return outputs, {}
-    model = _stgcn(config, skeleton, num_classes)
-    if not train:
-        return model.apply(variables, x, train=False), {}
-    rngs = {"dropout": key} if key is not None else {}
-    return model.apply(variables, x, train=True, rngs=rngs, mutable=["batch_stats"])
+    outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(skeleton),
+                           strides=config.strides, train=train, dropout_rate=config.dropout, dropout_key=key)
+    return outputs, ({"batch_stats": stats} if train else {})
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

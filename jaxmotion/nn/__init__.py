@@ -1,2 +1,3 @@
-"""Network layers shared by the models: pure-function GRU (``lax.scan``) and Transformer layers over explicit
-parameter pytrees in PyTorch's layout, and the ST-GCN recogniser (Flax)."""
+"""Network layers shared by the models, all pure functions over NamedTuple parameter pytrees in PyTorch's
+layout: the primitives (``core``: default initialisation, Linear, LayerNorm, BatchNorm, dropout), GRU
+(``recurrent``, ``lax.scan``), Transformer layers (``transformer``) and the ST-GCN recogniser (``stgcn``)."""

@@ -16,6 +16,8 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.nn.core import torch_uniform
+
 
 class GRUParams(NamedTuple):
     w_ih: jax.Array  # [3H, D]
@@ -37,11 +39,10 @@ def gru_cell(p: GRUParams, h: jax.Array, x: jax.Array) -> jax.Array:
 
 
 def init_gru(key: jax.Array, input_dim: int, hidden: int) -> GRUParams:
-    """PyTorch's default GRU initialisation: all four tensors uniform in ±1/sqrt(H)."""
-    bound = 1.0 / jnp.sqrt(hidden)
+    """PyTorch's default GRU initialisation: all four tensors uniform in ±1/sqrt(H) (fan_in = H)."""
     shapes = ((3 * hidden, input_dim), (3 * hidden, hidden), (3 * hidden,), (3 * hidden,))
-    return GRUParams(*(jax.random.uniform(k, shape, jnp.float32, -bound, bound)
-                       for k, shape in zip(jax.random.split(key, 4), shapes, strict=True)))
+    keys = jax.random.split(key, 4)
+    return GRUParams(*(torch_uniform(k, shape, hidden) for k, shape in zip(keys, shapes, strict=True)))
 
 
 def gru_stack(layers: tuple[GRUParams, ...], xs: jax.Array, h0: tuple[jax.Array, ...]) -> jax.Array:

@@ -1,4 +1,5 @@
-"""ST-GCN, the spatial-temporal graph convolutional action recogniser (Yan et al. 2018).
+"""ST-GCN, the spatial-temporal graph convolutional action recogniser (Yan et al. 2018), as pure functions
+over NamedTuple parameter and BatchNorm-statistics pytrees.
 
 Where it is used:
 
@@ -20,14 +21,29 @@ absent in the first block, the identity when channels and length are unchanged, 
 and BN. ``graph`` is ``spatial_partition(parents, center)`` scaled by a learnt per-block edge importance
 (initialised to ones).
 
+Use: ``graph = spatial_partition(parents, center)``; ``params, stats = init_stgcn(key, graph, C, classes,
+channels=..., strides=...)``; ``(logits, features), stats = stgcn(params, stats, x, graph, strides=...,
+train=...)``. Train mode normalises with batch statistics and returns the moved running statistics; eval
+mode uses (and returns) the running ones.
+
 Inputs are ``[B, T, V, C]`` or ``[B, M, T, V, C]``; ACTOR's ``batch["x"]`` ``(B, V, C, T)`` is
 ``x.transpose(0, 3, 1, 2)`` and ActFormer's ``(N, C, T, V, M)`` is ``x.transpose(0, 4, 2, 3, 1)``.
 
 Layout: channels last, ``[N, T, V, C]`` (``N`` = batch × persons), so the 1×1 convolutions are plain
 matrix products over the last axis and the temporal convolution is an ordinary NHWC conv, the layouts
-XLA's CPU backend is fastest with. Parameter shapes map one-to-one onto the reference state dict: the
-graph conv kernel ``[C_in, K·C_out]`` is ordered subset-major like the reference's ``view(n, K, C, t, v)``,
-``data_bn`` is ``[V, C]`` for the reference's ``V·C`` channels (joint-major).
+XLA's CPU backend is fastest with. Parameters map one-to-one onto the reference state dict, with PyTorch's
+shapes less the unit kernel axes of the 1×1 and ``(9, 1)`` convolutions:
+
+    data_bn                               -> data_bn             [V, C] for the reference's V·C channels
+    st_gcn_networks.{i}.gcn.conv          -> blocks[i].gcn       weight [K·C_out, C_in], subset-major as
+                                                                  the reference's view(n, K, C, t, v)
+    st_gcn_networks.{i}.tcn.0 / .2 / .3   -> blocks[i].tcn_bn_in / tcn_conv [C_out, C_out, 9] / tcn_bn_out
+    st_gcn_networks.{i}.residual.0 / .1   -> blocks[i].residual_conv [C_out, C_in] / residual_bn
+    edge_importance.{i}                   -> blocks[i].edge_importance [K, V, V]
+    fcn                                   -> fcn                 weight [classes, C_last]
+
+with BatchNorm ``weight`` / ``bias`` in the parameters and ``running_mean`` / ``running_var`` in the
+statistics (``data_bn``'s joint-major channels reshape to ``[V, C]``).
 
 Choices where the reference is ambiguous or differs between the two codebases:
 
@@ -35,45 +51,85 @@ Choices where the reference is ambiguous or differs between the two codebases:
   centre with the same hop matrix it builds for the neighbourhood, which stops at ``max_hop``; joints
   farther than that are all "infinitely" far and compare equal. So only edges with an end within ``max_hop``
   of the centre are split by direction; every deeper edge falls, both ways, in the "same or farther"
-  subset (on SMPL with ``max_hop = 1``: just the six edges 0-1, 0-2, 0-3, 1-4, 2-5, 3-6 are split). Reproduced as is, because evaluator weights trained on that graph expect it.
+  subset (on SMPL with ``max_hop = 1``: just the six edges 0-1, 0-2, 0-3, 1-4, 2-5, 3-6 are split).
+  Reproduced as is, because evaluator weights trained on that graph expect it.
 * **Dropout in every block.** ACTOR strips the dropout argument from block 1, ActFormer passes it to all
-  blocks; ActFormer is followed (ACTOR uses no dropout, so nothing changes for it).
+  blocks; ActFormer is followed (ACTOR uses no dropout, so nothing changes for it). Masks are
+  :func:`jaxmotion.nn.core.dropout`'s, one key per block split from ``dropout_key``.
 * **Initialisation** is PyTorch's default (weights and biases uniform in ±1/√fan_in, BN scale 1, shift 0),
   which is what ACTOR trains from. ActFormer's trainer re-initialises (conv weights N(0, 0.02), zero biases,
   BN scales N(1, 0.02)); that belongs to a trainer, not to this module.
-* **BatchNorm** uses PyTorch's momentum 0.1 (flax ``momentum=0.9``) and eps 1e-5. Flax updates the running
-  variance with the biased batch variance where PyTorch uses the unbiased one; over N·T·V values per channel
-  the difference is negligible. Persons share the input BatchNorm (ActFormer's ``person_bn`` is off).
+* **BatchNorm** is PyTorch's (:func:`jaxmotion.nn.core.batch_norm`: momentum 0.1, eps 1e-5, unbiased
+  running variance). Persons share the input BatchNorm (ActFormer's ``person_bn`` is off).
 * **Persons** are folded into the batch for every layer, so in train mode batch statistics pool all persons,
   as in the reference.
 """
 
 from __future__ import annotations
 
-import functools
-import math
+from typing import NamedTuple
 
-import flax.linen as nn
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.geometry.skeletons import bones
+from jaxmotion.nn.core import (
+    BatchNormParams,
+    BatchNormStats,
+    LinearParams,
+    batch_norm,
+    dropout,
+    init_batch_norm,
+    init_linear,
+    linear,
+    split_key,
+    torch_uniform,
+)
 
-# PyTorch's BatchNorm defaults: running = 0.9 · running + 0.1 · batch, eps 1e-5.
-_BatchNorm = functools.partial(nn.BatchNorm, momentum=0.9, epsilon=1e-5)
-# PyTorch's default conv/linear weight init, kaiming_uniform(a=√5), is uniform in ±1/√fan_in.
-_torch_kernel_init = nn.initializers.variance_scaling(1.0 / 3.0, "fan_in", "uniform")
+REFERENCE_CHANNELS = (64, 64, 64, 64, 128, 128, 128, 256, 256, 256)
+REFERENCE_STRIDES = (1, 1, 1, 1, 2, 1, 1, 2, 1, 1)
+
+# ----------------------------------------------------------------------------------------------- parameters
 
 
-def _torch_bias_init(fan_in: int) -> nn.initializers.Initializer:
-    """PyTorch's default bias init: uniform in ±1/√fan_in of the layer's weight."""
-    bound = 1.0 / math.sqrt(fan_in)
+class TemporalConvParams(NamedTuple):
+    """torch ``Conv2d(C_in, C_out, (kt, 1))`` less its unit kernel axis."""
 
-    def init(key, shape, dtype=jnp.float32):
-        return jax.random.uniform(key, shape, dtype, -bound, bound)
+    weight: jax.Array  # [C_out, C_in, kt]
+    bias: jax.Array  # [C_out]
 
-    return init
+
+class BlockParams(NamedTuple):
+    edge_importance: jax.Array | None  # [K, V, V]; None without edge importance
+    gcn: LinearParams  # [K·C_out, C_in], [K·C_out], subset-major
+    tcn_bn_in: BatchNormParams  # [C_out]
+    tcn_conv: TemporalConvParams  # [C_out, C_out, kt], [C_out]
+    tcn_bn_out: BatchNormParams  # [C_out]
+    residual_conv: LinearParams | None  # [C_out, C_in], [C_out]; only where channels or length change
+    residual_bn: BatchNormParams | None  # [C_out]; with residual_conv
+
+
+class BlockStats(NamedTuple):
+    tcn_bn_in: BatchNormStats  # [C_out]
+    tcn_bn_out: BatchNormStats  # [C_out]
+    residual_bn: BatchNormStats | None  # [C_out]; with residual_conv
+
+
+class STGCNParams(NamedTuple):
+    data_bn: BatchNormParams  # [V, C]
+    blocks: tuple[BlockParams, ...]
+    fcn: LinearParams  # [classes, C_last], [classes]
+
+
+class STGCNStats(NamedTuple):
+    """BatchNorm running statistics, the non-trained state (Flax's ``batch_stats``)."""
+
+    data_bn: BatchNormStats  # [V, C]
+    blocks: tuple[BlockStats, ...]
+
+
+# ------------------------------------------------------------------------------------------------- graph
 
 
 def _hop_distances(parents: tuple[int, ...], max_hop: int) -> np.ndarray:
@@ -131,78 +187,132 @@ def _fold_persons(x: jax.Array, num_joints: int) -> tuple[jax.Array, int]:
     return x.reshape(-1, *x.shape[-3:]), persons
 
 
-class STGCNBlock(nn.Module):
+# ------------------------------------------------------------------------------------------ initialisation
+
+
+def _check_graph(graph: np.ndarray) -> None:
+    if graph.ndim != 3 or graph.shape[1] != graph.shape[2]:
+        raise ValueError(f"graph: expected shape [K, V, V] (from spatial_partition), got {tuple(graph.shape)}")
+
+
+def init_temporal_conv(key: jax.Array, in_features: int, out_features: int, kernel: int) -> TemporalConvParams:
+    """torch ``Conv2d((kernel, 1))`` default: weight and bias U(±1/√(in_features · kernel))."""
+    k_w, k_b = jax.random.split(key)
+    fan_in = in_features * kernel
+    return TemporalConvParams(torch_uniform(k_w, (out_features, in_features, kernel), fan_in),
+                              torch_uniform(k_b, (out_features,), fan_in))
+
+
+def init_stgcn_block(key: jax.Array, graph: np.ndarray, in_features: int, features: int, *, stride: int = 1,
+                     temporal_kernel: int = 9, residual: bool = True,
+                     edge_importance: bool = True) -> tuple[BlockParams, BlockStats]:
+    """One block's parameters and statistics (PyTorch's default initialisation); ``graph [K, V, V]`` gives
+    the edge-importance shape. A residual conv is made where ``residual`` needs one (channels or length
+    change)."""
+    _check_graph(graph)
+    if temporal_kernel % 2 != 1:
+        raise ValueError(f"temporal_kernel: expected an odd size, got {temporal_kernel}")
+    k_gcn, k_tcn, k_res = jax.random.split(key, 3)
+    bn_in, stats_in = init_batch_norm((features,))
+    bn_out, stats_out = init_batch_norm((features,))
+    res_conv = res_bn = res_stats = None
+    if residual and (in_features != features or stride != 1):
+        res_conv = init_linear(k_res, in_features, features)
+        res_bn, res_stats = init_batch_norm((features,))
+    params = BlockParams(
+        edge_importance=jnp.ones(graph.shape, jnp.float32) if edge_importance else None,
+        gcn=init_linear(k_gcn, in_features, graph.shape[0] * features),
+        tcn_bn_in=bn_in,
+        tcn_conv=init_temporal_conv(k_tcn, features, features, temporal_kernel),
+        tcn_bn_out=bn_out,
+        residual_conv=res_conv,
+        residual_bn=res_bn,
+    )
+    return params, BlockStats(stats_in, stats_out, res_stats)
+
+
+def init_stgcn(key: jax.Array, graph: np.ndarray, in_features: int, num_classes: int, *,
+               channels: tuple[int, ...] = REFERENCE_CHANNELS, strides: tuple[int, ...] = REFERENCE_STRIDES,
+               temporal_kernel: int = 9, edge_importance: bool = True) -> tuple[STGCNParams, STGCNStats]:
+    """ST-GCN parameters and BatchNorm statistics for ``in_features`` input channels over the joints of
+    ``graph [K, V, V]``; defaults are the reference architecture (module docstring)."""
+    if len(channels) != len(strides) or not channels:
+        raise ValueError(f"channels, strides: expected equal non-zero lengths, got {len(channels)} "
+                         f"and {len(strides)}")
+    _check_graph(graph)
+    keys = jax.random.split(key, len(channels) + 1)
+    data_bn, data_stats = init_batch_norm((graph.shape[1], in_features))
+    blocks = [
+        init_stgcn_block(k, graph, c_in, c_out, stride=stride, temporal_kernel=temporal_kernel, residual=i > 0,
+                         edge_importance=edge_importance)
+        for i, (k, c_in, c_out, stride) in enumerate(zip(keys, (in_features, *channels), channels, strides))
+    ]
+    params = STGCNParams(data_bn, tuple(p for p, _ in blocks), init_linear(keys[-1], channels[-1], num_classes))
+    return params, STGCNStats(data_stats, tuple(s for _, s in blocks))
+
+
+# ------------------------------------------------------------------------------------------------ layers
+
+
+def temporal_conv(p: TemporalConvParams, x: jax.Array, stride: int = 1) -> jax.Array:
+    """"Same"-padded convolution over frames, each joint apart: ``x [N, T, V, C_in]`` ->
+    ``[N, ceil(T / stride), V, C_out]`` (odd kernel)."""
+    pad = (p.weight.shape[-1] - 1) // 2
+    y = jax.lax.conv_general_dilated(x, p.weight[..., None], window_strides=(stride, 1),
+                                     padding=((pad, pad), (0, 0)), dimension_numbers=("NHWC", "OIHW", "NHWC"))
+    return y + p.bias
+
+
+def stgcn_block(p: BlockParams, stats: BlockStats, x: jax.Array, graph: np.ndarray, *, stride: int = 1,
+                residual: bool = True, train: bool, dropout_rate: float = 0.0,
+                dropout_key: jax.Array | None = None) -> tuple[jax.Array, BlockStats]:
     """One graph-conv + temporal-conv block: ``x [N, T, V, C_in]``, ``graph [K, V, V]`` (from
-    :func:`spatial_partition`) -> ``[N, ceil(T / stride), V, features]``."""
-
-    features: int
-    stride: int = 1
-    temporal_kernel: int = 9
-    residual: bool = True
-    dropout: float = 0.0
-    edge_importance: bool = True
-
-    @nn.compact
-    def __call__(self, x: jax.Array, graph: np.ndarray, *, train: bool) -> jax.Array:
-        subsets = graph.shape[0]
-        in_features = x.shape[-1]
-        if self.edge_importance:
-            graph = graph * self.param("edge_importance", nn.initializers.ones, graph.shape)
-        y = nn.Dense(subsets * self.features, kernel_init=_torch_kernel_init,
-                     bias_init=_torch_bias_init(in_features), name="gcn")(x)
-        y = graph_aggregate(y.reshape(*y.shape[:-1], subsets, self.features), graph)
-
-        pad = (self.temporal_kernel - 1) // 2
-        y = nn.relu(_BatchNorm(use_running_average=not train, name="tcn_bn_in")(y))
-        y = nn.Conv(self.features, (self.temporal_kernel, 1), strides=(self.stride, 1),
-                    padding=((pad, pad), (0, 0)), kernel_init=_torch_kernel_init,
-                    bias_init=_torch_bias_init(self.features * self.temporal_kernel), name="tcn_conv")(y)
-        y = _BatchNorm(use_running_average=not train, name="tcn_bn_out")(y)
-        y = nn.Dropout(self.dropout, deterministic=not train)(y)
-
-        if not self.residual:
-            return nn.relu(y)
-        if in_features == self.features and self.stride == 1:
-            return nn.relu(y + x)
-        res = nn.Conv(self.features, (1, 1), strides=(self.stride, 1), kernel_init=_torch_kernel_init,
-                      bias_init=_torch_bias_init(in_features), name="residual_conv")(x)
-        res = _BatchNorm(use_running_average=not train, name="residual_bn")(res)
-        return nn.relu(y + res)
+    :func:`spatial_partition`) -> ``([N, ceil(T / stride), V, C_out], stats)``. Dropout only with a
+    ``dropout_key``; ``stride`` and ``residual`` as at :func:`init_stgcn_block`."""
+    subsets, features = graph.shape[0], p.tcn_bn_in.weight.shape[0]
+    if p.edge_importance is not None:
+        graph = graph * p.edge_importance
+    y = linear(p.gcn, x)
+    y = graph_aggregate(y.reshape(*y.shape[:-1], subsets, features), graph)
+    y, stats_in = batch_norm(p.tcn_bn_in, stats.tcn_bn_in, y, train=train)
+    y = temporal_conv(p.tcn_conv, jax.nn.relu(y), stride)
+    y, stats_out = batch_norm(p.tcn_bn_out, stats.tcn_bn_out, y, train=train)
+    y = dropout(y, dropout_rate, dropout_key)
+    if not residual:
+        return jax.nn.relu(y), BlockStats(stats_in, stats_out, None)
+    if p.residual_conv is None:
+        if x.shape[-1] != features or stride != 1:
+            raise ValueError(f"stride: the block has no residual conv, so needs stride 1 and C_in = C_out = "
+                             f"{features}; got stride {stride}, C_in {x.shape[-1]} (strides differ from init?)")
+        return jax.nn.relu(y + x), BlockStats(stats_in, stats_out, None)
+    res, stats_res = batch_norm(p.residual_bn, stats.residual_bn, linear(p.residual_conv, x[:, ::stride]),
+                                train=train)
+    return jax.nn.relu(y + res), BlockStats(stats_in, stats_out, stats_res)
 
 
-class STGCN(nn.Module):
-    """ST-GCN recogniser (module docstring). Defaults are the reference architecture.
+def stgcn(params: STGCNParams, stats: STGCNStats, x: jax.Array, graph: np.ndarray, *, strides: tuple[int, ...],
+          train: bool, dropout_rate: float = 0.0,
+          dropout_key: jax.Array | None = None) -> tuple[tuple[jax.Array, jax.Array], STGCNStats]:
+    """The recogniser (module docstring): ``x [B, T, V, C]`` or ``[B, M, T, V, C]`` (``M`` persons) ->
+    ``((logits [B, classes], features [B, C_last]), stats)``; features are the mean over frames, joints
+    and persons.
 
-    Call ``apply(variables, x, train=...)``; in train mode pass ``mutable=["batch_stats"]`` and, when
-    ``dropout > 0``, an rng named ``"dropout"``.
+    ``graph [K, V, V]`` and ``strides`` as at :func:`init_stgcn` (``REFERENCE_STRIDES`` for the
+    reference). ``train``: BatchNorm from batch
+    statistics, returning the moved running statistics, and dropout at ``dropout_rate`` when a
+    ``dropout_key`` is given (one key per block); otherwise running statistics and no dropout.
     """
-
-    num_classes: int
-    parents: tuple[int, ...]
-    center: int
-    channels: tuple[int, ...] = (64, 64, 64, 64, 128, 128, 128, 256, 256, 256)
-    strides: tuple[int, ...] = (1, 1, 1, 1, 2, 1, 1, 2, 1, 1)
-    temporal_kernel: int = 9
-    dropout: float = 0.0
-    edge_importance: bool = True
-
-    @nn.compact
-    def __call__(self, x: jax.Array, *, train: bool) -> tuple[jax.Array, jax.Array]:
-        """``x [B, T, V, C]`` or ``[B, M, T, V, C]`` (``M`` persons) -> ``(logits [B, num_classes],
-        features [B, channels[-1]])``; features are the mean over frames, joints and persons."""
-        if len(self.channels) != len(self.strides) or not self.channels:
-            raise ValueError(f"channels, strides: expected equal non-zero lengths, got {len(self.channels)} "
-                             f"and {len(self.strides)}")
-        if self.temporal_kernel % 2 != 1:
-            raise ValueError(f"temporal_kernel: expected an odd size, got {self.temporal_kernel}")
-        x, persons = _fold_persons(x, len(self.parents))
-        graph = spatial_partition(self.parents, self.center)
-        x = _BatchNorm(use_running_average=not train, axis=(-2, -1), name="data_bn")(x)  # per (joint, channel)
-        for i, (features, stride) in enumerate(zip(self.channels, self.strides, strict=True)):
-            x = STGCNBlock(features, stride, self.temporal_kernel, residual=i > 0, dropout=self.dropout,
-                           edge_importance=self.edge_importance, name=f"block{i}")(x, graph, train=train)
-        pooled = x.mean(axis=(1, 2))  # [B·M, C]
-        features = pooled.reshape(-1, persons, pooled.shape[-1]).mean(axis=1)
-        logits = nn.Dense(self.num_classes, kernel_init=_torch_kernel_init,
-                          bias_init=_torch_bias_init(pooled.shape[-1]), name="fcn")(features)
-        return logits, features
+    if len(strides) != len(params.blocks):
+        raise ValueError(f"strides: expected one per block ({len(params.blocks)}), got {len(strides)}")
+    _check_graph(graph)
+    x, persons = _fold_persons(x, graph.shape[1])
+    x, data_stats = batch_norm(params.data_bn, stats.data_bn, x, train=train)  # per (joint, channel)
+    keys = split_key(dropout_key if train else None, len(params.blocks))
+    block_stats = []
+    for i, (p, s, stride, key) in enumerate(zip(params.blocks, stats.blocks, strides, keys, strict=True)):
+        x, s = stgcn_block(p, s, x, graph, stride=stride, residual=i > 0, train=train, dropout_rate=dropout_rate,
+                           dropout_key=key)
+        block_stats.append(s)
+    pooled = x.mean(axis=(1, 2))  # [B·M, C]
+    features = pooled.reshape(-1, persons, pooled.shape[-1]).mean(axis=1)
+    return (linear(params.fcn, features), features), STGCNStats(data_stats, tuple(block_stats))

@@ -36,15 +36,16 @@ Choices:
   attention output there is ``out_proj.bias``: finite, and it receives no gradient from other tokens.
 * **Dropout** happens only when a ``dropout_key`` is given (no key = eval mode), in the places torch puts it:
   on the attention weights, after each sublayer before the residual add, and after the FF activation. Masks
-  come from :func:`dropout_bits` (a hash of the element index, seeded from the key), not threefry.
+  come from :func:`jaxmotion.nn.core.dropout_bits` (a hash of the element index, seeded from the key), not
+  threefry.
 * **One key** (a single memory token): attention skips the query/key projections, whose softmax weight is 1.
 * **Stacks** take parameters stacked on a leading layer axis ``L`` (:func:`stack_layers`) and run the layers
   with ``lax.scan``, so compile time does not grow with depth (``unroll=True`` traces them unrolled); the
   dropout key is split into one per layer. An encoder stack's ``num_queries`` limits its last layer to the
   outputs the caller reads.
-* **Initialisation** is PyTorch's default: ``Linear`` weights and biases U(±1/√fan_in); ``MultiheadAttention``
-  ``in_proj_weight`` xavier-uniform over ``[3D, D]``, zero ``in_proj_bias`` and ``out_proj.bias``,
-  ``out_proj.weight`` as a ``Linear``; LayerNorm ones / zeros. torch's ``nn.TransformerEncoder`` /
+* **Initialisation** is PyTorch's default: ``Linear`` and LayerNorm as in :mod:`jaxmotion.nn.core`;
+  ``MultiheadAttention`` ``in_proj_weight`` xavier-uniform over ``[3D, D]``, zero ``in_proj_bias`` and
+  ``out_proj.bias``, ``out_proj.weight`` as a ``Linear``. torch's ``nn.TransformerEncoder`` /
   ``nn.TransformerDecoder`` deep-copy one layer, so all layers start identical (``clone=True``, ACTOR's
   case); joeynmt builds each layer separately and its q / k / v / output projections are plain ``Linear``
   layers with biases (``clone=False, separate_projections=True``).
@@ -61,17 +62,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.nn.core import (
+    LayerNormParams,
+    LinearParams,
+    dropout,
+    init_layer_norm,
+    init_linear,
+    layer_norm,
+    linear,
+    split_key,
+)
+
 # ----------------------------------------------------------------------------------------------- parameters
-
-
-class LinearParams(NamedTuple):
-    weight: jax.Array  # [out, in]
-    bias: jax.Array  # [out]
-
-
-class LayerNormParams(NamedTuple):
-    weight: jax.Array  # [D]
-    bias: jax.Array  # [D]
 
 
 class AttentionParams(NamedTuple):
@@ -107,22 +109,6 @@ class DecoderLayerParams(NamedTuple):
 # ------------------------------------------------------------------------------------------ initialisation
 
 
-def _uniform(key: jax.Array, shape: tuple[int, ...], bound: float) -> jax.Array:
-    return jax.random.uniform(key, shape, jnp.float32, -bound, bound)
-
-
-def init_linear(key: jax.Array, in_dim: int, out_dim: int) -> LinearParams:
-    """torch ``nn.Linear`` default: weight ``[out_dim, in_dim]`` and bias ``[out_dim]`` U(±1/√in_dim)."""
-    k_w, k_b = jax.random.split(key)
-    bound = 1.0 / math.sqrt(in_dim)
-    return LinearParams(_uniform(k_w, (out_dim, in_dim), bound), _uniform(k_b, (out_dim,), bound))
-
-
-def init_layer_norm(dim: int) -> LayerNormParams:
-    """LayerNorm over ``dim`` features: scale ones, shift zeros."""
-    return LayerNormParams(jnp.ones((dim,), jnp.float32), jnp.zeros((dim,), jnp.float32))
-
-
 def init_multi_head_attention(key: jax.Array, dim: int, *, separate_projections: bool = False) -> AttentionParams:
     """Attention parameters for model width ``dim``.
 
@@ -140,7 +126,7 @@ def init_multi_head_attention(key: jax.Array, dim: int, *, separate_projections:
         )
     bound = math.sqrt(6.0 / (dim + 3 * dim))
     return AttentionParams(
-        _uniform(k_in, (3 * dim, dim), bound),
+        jax.random.uniform(k_in, (3 * dim, dim), jnp.float32, -bound, bound),
         jnp.zeros((3 * dim,), jnp.float32),
         out_proj._replace(bias=jnp.zeros((dim,), jnp.float32)),
     )
@@ -284,58 +270,6 @@ def sinusoidal_encoding(positions: jax.Array, dim: int) -> jax.Array:
     return jnp.where(column % 2 == 0, jnp.sin(angle), jnp.cos(angle))
 
 
-def linear(p: LinearParams, x: jax.Array) -> jax.Array:
-    """``x [..., in]`` -> ``[..., out]``."""
-    return x @ p.weight.T + p.bias
-
-
-def layer_norm(p: LayerNormParams, x: jax.Array, eps: float = 1e-5) -> jax.Array:
-    """LayerNorm over the last axis (biased variance, like torch)."""
-    mean = x.mean(-1, keepdims=True)
-    var = jnp.square(x - mean).mean(-1, keepdims=True)
-    return (x - mean) * jax.lax.rsqrt(var + eps) * p.weight + p.bias
-
-
-def _mix32(h: jax.Array) -> jax.Array:
-    """Wellons' "lowbias32" integer finaliser: a bijection of ``uint32`` with good avalanche."""
-    h = (h ^ (h >> 16)) * jnp.uint32(0x7FEB352D)
-    h = (h ^ (h >> 15)) * jnp.uint32(0x846CA68B)
-    return h ^ (h >> 16)
-
-
-def dropout_bits(key: jax.Array, shape: tuple[int, ...]) -> jax.Array:
-    """Uniform ``uint32`` bits of ``shape`` for dropout masks: two 32-bit seeds drawn from ``key``, mixed
-    into a hash of each element's index.
-
-    Why not ``jax.random.bits``: threefry costs ~30 integer rounds per element, more than all the matrix
-    products of an ACTOR training step on a CPU (XLA's RngBitGenerator is no cheaper there); the two hash
-    rounds are ~15x cheaper and their bits pass as independent fair coins for masking
-    (``tests/test_transformer.py``). The second seed enters after the first round, so two keys do not give
-    shifted copies of one sequence. Same key, same mask.
-    """
-    size = math.prod(shape)
-    if size >= 2**32:
-        raise ValueError(f"dropout_bits: shape {shape} has more than 2**32 elements")
-    seeds = jax.random.bits(key, (2,), jnp.uint32)
-    index = jax.lax.iota(jnp.uint32, size).reshape(shape)
-    return _mix32(_mix32(index * jnp.uint32(0x9E3779B9) + seeds[0]) ^ seeds[1])
-
-
-def dropout(x: jax.Array, rate: float, key: jax.Array | None) -> jax.Array:
-    """Inverted dropout (kept values scaled by ``1 / (1 − rate)``); the identity when ``key`` is None.
-    A value is dropped when its :func:`dropout_bits` fall below ``rate · 2³²``."""
-    if key is None or rate == 0.0:
-        return x
-    if not 0.0 <= rate < 1.0:
-        raise ValueError(f"dropout_rate: expected in [0, 1), got {rate}")
-    keep = dropout_bits(key, x.shape) >= jnp.uint32(round(rate * 2**32))
-    return jnp.where(keep, x / (1.0 - rate), jnp.zeros_like(x))
-
-
-def _split_key(key: jax.Array | None, num: int) -> list[jax.Array | None]:
-    return [None] * num if key is None else list(jax.random.split(key, num))
-
-
 def _check_sequence(name: str, x: jax.Array, dim: int | None = None, batch: int | None = None) -> None:
     expected = f"[{'B' if batch is None else batch}, T, {'D' if dim is None else dim}]"
     if x.ndim != 3 or (dim is not None and x.shape[2] != dim) or (batch is not None and x.shape[0] != batch):
@@ -471,7 +405,7 @@ def encoder_layer(
     if num_queries is not None and (causal or not 1 <= num_queries <= x.shape[1]):
         raise ValueError(f"num_queries: expected 1..T = {x.shape[1]} without causal, got {num_queries} "
                          f"(causal={causal})")
-    k_att, k_drop1, k_ff, k_drop2 = _split_key(dropout_key, 4)
+    k_att, k_drop1, k_ff, k_drop2 = split_key(dropout_key, 4)
     block = {"norm_first": norm_first, "eps": layer_norm_eps, "dropout_rate": dropout_rate}
 
     def self_attention(h):
@@ -511,7 +445,7 @@ def decoder_layer(
     """
     _check_sequence("tgt", tgt)
     _check_sequence("memory", memory, dim=tgt.shape[2], batch=tgt.shape[0])
-    k_self, k_drop1, k_cross, k_drop2, k_ff, k_drop3 = _split_key(dropout_key, 6)
+    k_self, k_drop1, k_cross, k_drop2, k_ff, k_drop3 = split_key(dropout_key, 6)
     block = {"norm_first": norm_first, "eps": layer_norm_eps, "dropout_rate": dropout_rate}
 
     def self_attention(h):
