@@ -8,6 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import pytest
+from flax.training.train_state import TrainState
 
 from jaxmotion.models.a2m import (
     A2MOptimizer,
@@ -20,8 +21,8 @@ from jaxmotion.models.a2m import (
     count_parameters,
     gaussian_kl,
     init_a2m_vae,
-    make_a2m_train_step,
 )
+from jaxmotion.train.a2m import a2m_step
 
 F, C, B, T = 6, 2, 3, 7
 # One configuration (and one set of parameters) for almost every test: compilation dominates their time.
@@ -182,12 +183,12 @@ def test_short_training_reduces_the_loss(params):
     phase = np.arange(F)[None, None, :] / F
     motions = np.concatenate([np.sin(2 * np.pi * (t + phase)), 0.5 * np.cos(4 * np.pi * (t - phase))])
     poses, actions = jnp.asarray(np.concatenate([motions, motions]), jnp.float32), jnp.asarray([0, 1, 0, 1])
-    optimizer = optax.adam(1e-2)
-    opt_state = optimizer.init(params)
-    step = make_a2m_train_step(CFG, optimizer)
+    state = TrainState.create(apply_fn=None, params=params, tx=optax.adam(1e-2))
+    step = jax.jit(a2m_step(CFG))  # the library's step, on a batch of poses laid out as joints [B, T, J, 3]
+    batch = {"joints": poses.reshape(*poses.shape[:2], -1, 3), "actions": actions}
     losses = []
     for key in jax.random.split(jax.random.key(16), 150):
-        params, opt_state, metrics = step(params, opt_state, key, poses, actions)
+        state, metrics = step(state, batch, key)
         losses.append(float(metrics["loss"]))
     assert np.mean(losses[-10:]) < 0.1 * np.mean(losses[:3]), losses[::10]
 

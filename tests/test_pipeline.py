@@ -8,12 +8,11 @@ import pytest
 from jaxmotion.data import Motion, pack
 from jaxmotion.data.pipeline import (
     BatchSpec,
-    canonicalize_motion,
     EpochOrder,
+    canonicalize_motion,
     make_batch_fn,
     random_lengths,
     sequence_weights,
-    to_root_relative,
     window_frames,
 )
 from jaxmotion.geometry import SMPL24, axis_angle_to_matrix, forward_kinematics
@@ -147,14 +146,6 @@ def test_actor_features_round_trip(dataset, rep, channels):
     np.testing.assert_allclose(np.asarray(axis_angle_to_matrix(back_rot)), np.asarray(axis_angle_to_matrix(rot)),
                                atol=1e-5)
     np.testing.assert_allclose(np.asarray(back_trans), np.asarray(trans - trans[:, :1]), atol=1e-5)
-
-
-def test_root_relative_split_recombines(dataset):
-    joints = jnp.asarray(dataset[1].joints)[None]
-    local, trajectory = to_root_relative(joints)
-    np.testing.assert_allclose(np.asarray(local[..., 0, :]), 0.0, atol=1e-7)
-    np.testing.assert_allclose(np.asarray(local + trajectory[:, :, None] + joints[:, :1, :1]), np.asarray(joints),
-                               atol=1e-5)
 
 
 def test_bad_specs_are_rejected(dataset):

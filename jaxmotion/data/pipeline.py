@@ -157,13 +157,6 @@ def to_origin(joints: jax.Array, translation: jax.Array) -> tuple[jax.Array, jax
     return joints - origin[:, :, None], translation - origin
 
 
-def to_root_relative(joints: jax.Array) -> tuple[jax.Array, jax.Array]:
-    """ODMO's split of ``joints [B, T, J, 3]`` into the pose relative to each frame's root ``[B, T, J, 3]``
-    and the root trajectory relative to frame 0 ``[B, T, 3]``."""
-    root = joints[..., 0, :]
-    return joints - root[..., None, :], root - root[:, :1]
-
-
 # --- batches ---------------------------------------------------------------------------------------
 
 
@@ -291,7 +284,11 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any
     size = min(size, total)
     place, fetch = (lambda part: part), np.asarray
     if mesh is not None:
-        from jaxmotion.train.mesh import DATA_AXIS, gather, shard_batch  # the loop's module; imported lazily
+        from jaxmotion.train.mesh import (  # the loop's module; imported lazily
+            DATA_AXIS,
+            gather,
+            shard_batch,
+        )
 
         devices = mesh.shape[DATA_AXIS]
         size = -(-size // devices) * devices

@@ -69,7 +69,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
 from typing import Literal, NamedTuple
 
 import jax
@@ -372,16 +371,3 @@ def a2m_generate(params: A2MVAEParams, key: jax.Array, actions: jax.Array, num_f
              _zeros_state(b, config.hidden, config.decoder_layers), jnp.zeros((b, config.pose_dim), jnp.float32))
     _, poses = jax.lax.scan(step, carry, (extras, _step_keys(key, num_frames)))
     return jnp.swapaxes(poses, 0, 1)
-
-
-def make_a2m_train_step(config: A2MVAEConfig, optimizer: optax.GradientTransformation) -> Callable:
-    """A jitted ``step(params, opt_state, key, poses, actions, mask) -> (params, opt_state, metrics)``
-    (``mask`` may be None; a different mask-ness retraces)."""
-
-    @jax.jit
-    def step(params, opt_state, key, poses, actions, mask=None):
-        grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(params, key, poses, actions, config, mask)
-        updates, opt_state = optimizer.update(grads, opt_state, params)
-        return optax.apply_updates(params, updates), opt_state, metrics
-
-    return step

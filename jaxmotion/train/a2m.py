@@ -83,15 +83,25 @@ def train_a2m(data: MotionDataset, training: A2MTraining, key: jax.Array, workdi
     parameters. ``key`` splits into initialisation, data order and the loop's per-step keys (:func:`fit`);
     ``loop_options`` go to the loop (``mesh``, ``init_from``, ``eval_fn``)."""
     _check_data(training, data)
-    config = training.model
-    tx = a2m_optimizer(training.optimizer)
+    state = fit(data, key, init_state=lambda k: a2m_state(training, k), step_fn=a2m_step(training.model),
+                batch=training.batch, loop=training.loop, workdir=workdir, progress=progress, **loop_options)
+    return state.params
+
+
+def a2m_state(training: A2MTraining, key: jax.Array) -> TrainState:
+    """Fresh parameters and the authors' Adam state for ``training``."""
+    return TrainState.create(apply_fn=None, params=init_a2m_vae(key, training.model),
+                             tx=a2m_optimizer(training.optimizer))
+
+
+def a2m_step(config: A2MVAEConfig):
+    """The training step ``(state, batch, key) -> (state, loss terms)`` (the loop jits it): the VAE loss on a
+    pipeline batch's joints (flattened joint-major, ``[B, T, J·3]``), the feedback draw and the
+    reparameterisation from ``key``, one Adam update."""
 
     def step_fn(state, batch, key):
-        poses = batch["joints"].reshape(*batch["joints"].shape[:2], -1)  # [B, T, J·3], joint-major
+        poses = batch["joints"].reshape(*batch["joints"].shape[:2], -1)
         grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(state.params, key, poses, batch["actions"], config)
         return state.apply_gradients(grads=grads), metrics
 
-    state = fit(data, key, init_state=lambda k: TrainState.create(apply_fn=None, params=init_a2m_vae(k, config), tx=tx),
-                step_fn=step_fn, batch=training.batch, loop=training.loop, workdir=workdir, progress=progress,
-                **loop_options)
-    return state.params
+    return step_fn
