@@ -4,6 +4,7 @@ from another run, the evaluation hook, a one-device mesh, the several-optimiser 
 import io
 import json
 
+import chex
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -34,10 +35,9 @@ def _batch_fn(step):
 
 
 def test_train_step_traces_once(tmp_path):
-    traces = []
-    train(_quadratic_state(), _step_fn(traces), _batch_fn, key=jax.random.key(0),
+    step_fn = chex.assert_max_traces(_step_fn([]), n=1)  # a second trace raises
+    train(_quadratic_state(), step_fn, _batch_fn, key=jax.random.key(0),
           config=LoopConfig(steps=12, log_every=4, checkpoint_every=8), workdir=tmp_path, progress=False)
-    assert len(traces) == 1
 
 
 def test_step_key_depends_only_on_seed_and_step(tmp_path):
