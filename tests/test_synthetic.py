@@ -313,6 +313,7 @@ def test_uestc_classes_modes_and_splits():
     assert all(2 <= len(c.modes) <= 4 and len(set(c.modes)) == len(c.modes) for c in variant.classes)
     seated = [i for i, c in enumerate(variant.classes) if any("seated" in m for m in c.modes)]
     assert len(seated) == 15 and min(seated) >= 10  # 15 of actions 10-39 were done seated by half the subjects
+    assert tuple(variant.class_names[i] for i in seated) == synthetic.uestc.SEATED_CAPABLE  # the documented list
     train, test = variant.splits["train"], variant.splits["test"]
     assert (train.num_sequences, test.num_sequences) == (10650, 13350)
     assert set(train.subjects) == set(uestc_format.TRAIN_SUBJECTS) and len(test.subjects) == 67
