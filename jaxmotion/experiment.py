@@ -6,13 +6,16 @@ table row (a method) to its cells (metric name → a number, or a list of number
 repetitions, shown as mean ± 95% CI). Its ``main`` is one line::
 
     def main(argv=None):
-        return experiment.main("actor_uestc", Config, run, argv)
+        return experiment.main("actor_uestc", Config, run, argv, claims=CLAIMS)
 
-Results land in ``<out>/<experiment>/<profile>/seed-<n>/``: ``config.json`` (the whole run record),
-``metrics.jsonl`` (training log), ``metrics.json``, ``table.md`` and ``checkpoints/``. With several seeds,
+``claims`` are the paper's claims from that table (:class:`~jaxmotion.evaluation.claims.Claim`), checked
+on every run. Results land in ``<out>/<experiment>/<profile>/seed-<n>/``: ``config.json`` (the run
+record: config, environment, inputs; :mod:`jaxmotion.provenance`), ``metrics.jsonl`` (training log),
+``metrics.json``, ``table.md`` and ``checkpoints/``. With several seeds,
 ``<out>/<experiment>/<profile>/summary.json`` and ``table.md`` hold mean ± 95% CI over the seeds.
 Re-running the same command resumes: finished seeds are read back, an interrupted one restarts from its
-last checkpoint, and a run folder made with a different config is refused.
+last checkpoint, and a run folder made with a different config or other inputs is refused. ``--devices``
+sets the data mesh (:attr:`RunContext.mesh`), ``--export`` the formats of :meth:`RunContext.export`.
 """
 
 from __future__ import annotations
@@ -38,15 +41,15 @@ from jaxmotion.data.export import export_motions
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
+from jaxmotion.evaluation.table import format_table
 from jaxmotion.evaluation.tables import run_table
 from jaxmotion.train.mesh import data_mesh, initialize_distributed
-from jaxmotion.evaluation.table import format_table
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
 
 
 class RunConflictError(RuntimeError):
-    """The results folder holds a run made with another config."""
+    """The results folder holds a run made with another config or other inputs."""
 
 
 @dataclasses.dataclass(frozen=True)
