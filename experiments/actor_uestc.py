@@ -13,8 +13,9 @@ Acc. 91.1±0.3, Div. 31.96±0.36, Multimod. 14.66±0.03; Real: 2.93±0.26, 2.79�
 33.34±0.32, 14.16±0.06. Numbers on the embedded data are not comparable in absolute terms (another
 dataset and another recogniser); the Real row computed here is the reference to compare with.
 
-cpu profile (2 CPU cores, 19 minutes, evaluator cached; seed 0): ACTOR FID_tr 7.18±0.62, FID_test
-7.72±0.42, Acc. 81.82±0.94, Div. 13.26±0.21, Multimod. 3.70±0.10; Real 0.80, 0.97, 99.38, 13.53, 2.47.
+cpu profile (seed 0; about 20 minutes on 2 free cores, evaluator cached): ACTOR FID_tr 4.78±0.54,
+FID_test 5.52±0.53, Acc. 86.52±1.34, Div. 13.05±0.21, Multimod. 3.29±0.14; Real 0.83, 1.03, 99.32, 13.51,
+2.53 (the version-3 evaluator; the version-2 one gave the same model 81.8% and FID_tr 7.2).
 
 Outputs in ``results/actor_uestc/<profile>/seed-<n>/``: the table (rows ACTOR and Real, plus the paper's
 numbers as "reported" rows), ``generated.gif`` (3 generated motions for each of the first actions) and
