@@ -32,7 +32,7 @@ import numpy as np
 from jax.sharding import Mesh
 
 from jaxmotion.data import synthetic
-from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.datasets import PAPER_SIZES, load_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, evaluate
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
@@ -55,23 +55,26 @@ PERCENT = frozenset({"accuracy"})
 
 @dataclasses.dataclass(frozen=True)
 class StandIn:
-    """The embedded dataset standing in for a paper dataset, the evaluator the papers score it with
-    (a :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name), whether it has a test split and
-    its size (classes, training clips)."""
+    """The embedded dataset standing in for a paper dataset (``label``, a key of
+    :data:`~jaxmotion.data.datasets.PAPER_SIZES`), the evaluator the papers score it with (a
+    :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name) and whether it has a test split."""
 
+    label: str
     dataset: str
     evaluator: str
     test_split: bool
-    num_classes: int
-    clips: int
+
+    @property
+    def num_classes(self) -> int:
+        return PAPER_SIZES[self.label][0]
 
 
 #: The paper datasets -> their embedded stand-ins.
-STAND_INS = {
-    "NTU-13": StandIn("synth-ntu13", "synth-ntu13/gru", False, 13, 3900),
-    "UESTC": StandIn("synth-uestc", "synth-uestc/stgcn", True, 40, 10_650),
-    "HumanAct12": StandIn("synth-humanact12", "synth-humanact12/gru", False, 12, 1200),
-}
+STAND_INS = {s.label: s for s in (
+    StandIn("NTU-13", "synth-ntu13", "synth-ntu13/gru", False),
+    StandIn("UESTC", "synth-uestc", "synth-uestc/stgcn", True),
+    StandIn("HumanAct12", "synth-humanact12", "synth-humanact12/gru", False),
+)}
 
 
 @dataclasses.dataclass(frozen=True)

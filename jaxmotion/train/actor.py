@@ -18,6 +18,7 @@ import jax
 import optax
 from flax.training.train_state import TrainState
 
+from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec
 from jaxmotion.geometry.body import BodyModel
@@ -104,11 +105,10 @@ def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, wo
 
 # --- the profiles' trainings -----------------------------------------------------------------------
 
-UESTC_CLASSES = 40
-UESTC_EPOCH = 10_650 // 20  # steps per epoch at batch 20
+UESTC_CLASSES, _UESTC_CLIPS = PAPER_SIZES["UESTC"]
+UESTC_EPOCH = _UESTC_CLIPS // 20  # steps per epoch at batch 20
 #: FACTS.md §3: the paper's epochs of its main runs per dataset (its ablations' shorter runs are not attributed)
 PAPER_EPOCHS = {"NTU-13": 2000, "UESTC": 1000, "HumanAct12": 5000}
-_PAPER_CLIPS = {"NTU-13": 3900, "UESTC": 10_650, "HumanAct12": 1200}
 
 
 def smoke_training(num_classes: int, steps: int = 2, checkpoint_every: int = 0) -> ActorTraining:
@@ -144,13 +144,13 @@ def table_training(label: str, profile: str, cpu: ActorTraining) -> ActorTrainin
     classes is the dataset's in every profile."""
     if label not in PAPER_EPOCHS:
         raise ValueError(f"label: expected one of {sorted(PAPER_EPOCHS)}, got {label!r}")
-    classes = {"NTU-13": 13, "UESTC": UESTC_CLASSES, "HumanAct12": 12}[label]
+    classes, clips = PAPER_SIZES[label]
     if profile == "smoke":
         return smoke_training(classes)
     if profile == "cpu":
         return dataclasses.replace(cpu, model=dataclasses.replace(cpu.model, num_classes=classes))
     if profile == "paper":
-        steps = PAPER_EPOCHS[label] * (_PAPER_CLIPS[label] // 20)
+        steps = PAPER_EPOCHS[label] * (clips // 20)
         return ActorTraining(ActorConfig(num_classes=classes), LoopConfig(steps, log_every=100, checkpoint_every=10_000),
                              losses=ActorLossWeights(joints=1.0))
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
