@@ -13,7 +13,6 @@ several processes join through ``JAXMOTION_COORDINATOR`` / ``JAXMOTION_NUM_PROCE
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import pickle
 import sys
 import time
@@ -38,12 +37,9 @@ BATCH, WINDOW, LEARNING_RATE = 8, 20, 1e-3
 
 
 def smoke_training(num_classes: int, num_joints: int, loop: LoopConfig) -> ActorTraining:
-    """The smoke-size ACTOR training (``ActorTraining`` with its loop, whichever form it takes)."""
+    """The smoke-size ACTOR training with ``loop``."""
     model = ActorConfig(num_classes=num_classes, num_joints=num_joints + 1, **MODEL)
-    fields = {f.name for f in dataclasses.fields(ActorTraining)}
-    loop_fields = {"loop": loop} if "loop" in fields else {"steps": loop.steps, "log_every": loop.log_every,
-                                                          "checkpoint_every": loop.checkpoint_every}
-    return ActorTraining(model, batch_size=BATCH, window=WINDOW, learning_rate=LEARNING_RATE, **loop_fields)
+    return ActorTraining(model, loop=loop, batch_size=BATCH, window=WINDOW, learning_rate=LEARNING_RATE)
 
 
 def run(data, out: Path, devices: int | None, steps: int, step_sleep_s: float = 0.0, progress: bool = True):
