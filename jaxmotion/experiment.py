@@ -21,6 +21,7 @@ sets the data mesh (:attr:`RunContext.mesh`), ``--export`` the formats of :meth:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import functools
 import json
@@ -43,9 +44,11 @@ from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.table import format_table
 from jaxmotion.evaluation.tables import run_table
-from jaxmotion.train.mesh import data_mesh, initialize_distributed
+from jaxmotion.files import LOCK_NAME, FolderInUseError, FolderLock, read_json, write_atomic, write_json
+from jaxmotion.train.mesh import data_mesh, initialize_distributed, is_primary
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
+MAX_SEED = 2**32 - 1  # jax.random.key takes a 32-bit seed on a default (x32) install
 
 
 class RunConflictError(RuntimeError):
@@ -63,6 +66,10 @@ class RunContext:
     data_root: str | None = None
     export_formats: tuple[str, ...] = ()  # --export: formats of jaxmotion.data.export for generated motions
     devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
+
+    def __post_init__(self):
+        if not 0 <= self.seed <= MAX_SEED:  # jax.random.key(2**32) is key(0): two seeds, one run
+            raise ValueError(f"seed: expected 0 to {MAX_SEED} (2**32 - 1), got {self.seed}")
 
     @functools.cached_property
     def mesh(self) -> Mesh | None:
@@ -163,33 +170,55 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root,
                      tuple(export_formats), devices)
-    ctx.workdir.mkdir(parents=True, exist_ok=True)
-    record = {**ctx.record(config), "inputs": provenance.inputs(config, data_root)}
+    with (FolderLock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
+        return _run_locked(ctx, config, run_fn, claims)
+
+
+def _run_locked(ctx: RunContext, config: Any, run_fn: RunFn, claims: Sequence[Claim]) -> dict[str, Any]:
+    name, seed = ctx.experiment, ctx.seed
+    record = {**ctx.record(config), "inputs": provenance.inputs(config, ctx.data_root)}
     config_path, metrics_path = ctx.workdir / "config.json", ctx.workdir / "metrics.json"
     if config_path.exists():
-        previous = json.loads(config_path.read_text())
+        previous = read_json(config_path)
+        if not isinstance(previous, dict):
+            raise RunConflictError(f"{config_path} is not a run record (empty or not JSON); refusing to guess "
+                                   f"what made this folder. Use another --out, or delete that folder to start over.")
         # the software and machine are recorded, not compared: a resumed run may move to a patched checkout
         changes = cfglib.diff({k: v for k, v in previous.items() if k != "environment"},
                               {k: v for k, v in record.items() if k != "environment"})
         moved = cfglib.diff(previous.get("environment", {}), record["environment"])
-        if moved and not changes:
-            print(f"[{name}] seed {seed}: resuming in another environment:\n  " + "\n  ".join(moved), file=sys.stderr)
-        if changes:
+        if changes and not _holds_work(ctx.workdir):
+            print(f"[{name}] seed {seed}: the run recorded in {config_path} never started; starting this one "
+                  f"instead:\n  " + "\n  ".join(changes), file=sys.stderr)
+        elif changes:
             raise RunConflictError(
                 f"{ctx.workdir} holds a run with a different config or inputs; refusing to resume it.\n  "
                 + "\n  ".join(changes)
                 + "\nUse another --out, or delete that folder to start over."
             )
-        if metrics_path.exists():
+        elif moved:
+            print(f"[{name}] seed {seed}: resuming in another environment:\n  " + "\n  ".join(moved), file=sys.stderr)
+        finished = read_json(metrics_path)
+        if isinstance(finished, dict) and "rows" in finished:
             print(f"[{name}] seed {seed}: already finished, reading {metrics_path}", file=sys.stderr)
-            return json.loads(metrics_path.read_text())
-    else:
-        config_path.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
-    print(f"[{name}] {profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
+            return finished
+        if metrics_path.exists():
+            print(f"[{name}] seed {seed}: {metrics_path} is unreadable (empty or cut short); evaluating again "
+                  f"(finished trainings resume from their checkpoints)", file=sys.stderr)
+        if not changes:
+            record = previous  # keep the record of the run being resumed (its environment)
+    if is_primary():
+        write_json(config_path, record)
+    print(f"[{name}] {ctx.profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
-    return write_results(ctx.workdir, rows, f"{name} ({profile}, seed {seed})", claims,
-                         run={"environment": record["environment"],
-                              "evaluators": provenance.evaluators(config, data_root)})
+    return write_results(ctx.workdir, rows, f"{name} ({ctx.profile}, seed {seed})", claims,
+                         run={"environment": ctx.record(config)["environment"],
+                              "evaluators": provenance.evaluators(config, ctx.data_root)})
+
+
+def _holds_work(folder: Path) -> bool:
+    """Whether a run folder holds anything a run made (a log, a checkpoint, a result) beyond its record."""
+    return any(p.is_file() and p.name not in ("config.json", LOCK_NAME) for p in folder.rglob("*"))
 
 
 def write_results(folder: str | Path, rows: Rows, title: str, claims: Sequence[Claim] = (), *,
@@ -205,8 +234,8 @@ def write_results(folder: str | Path, rows: Rows, title: str, claims: Sequence[C
     metrics["claims"] = check_all(claims, metrics["rows"])
     if run is not None:
         metrics["run"] = dict(run)
-    (folder / "table.md").write_text(format_table(_table_cells(metrics), title=title) + format_claims(metrics["claims"]))
-    (folder / "metrics.json").write_text(json.dumps(metrics, indent=2, sort_keys=True) + "\n")
+    write_atomic(folder / "table.md", format_table(_table_cells(metrics), title=title) + format_claims(metrics["claims"]))
+    write_json(folder / "metrics.json", metrics)
     return metrics
 
 
@@ -240,14 +269,19 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     if args.print_config:
         print(cfglib.to_json(config))
         return {}
-    seeds = _parse_seeds(args.seeds) if args.seeds else [args.seed]
+    if args.seed is not None and args.seeds:
+        raise SystemExit("--seed and --seeds: give one of them (--seeds 0,1,2 runs several)")
+    seeds = _parse_seeds(args.seeds) if args.seeds else [0 if args.seed is None else _check_seed(args.seed, "--seed")]
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise SystemExit(f"--out: {out} is a file; expected a folder for the results (it is made if missing)")
     per_seed = {}
     for seed in seeds:
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
                                       export_formats=_parse_formats(args.export), devices=args.devices)
-        except RunConflictError as err:
+        except (RunConflictError, FolderInUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
     if len(seeds) == 1:
         result = per_seed[seeds[0]]
@@ -258,8 +292,8 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     folder = Path(args.out) / name / args.profile
     table = (format_table(_table_cells(summary), title=f"{name} ({args.profile}, seeds {_seed_list(seeds)}; mean ± 95% CI)")
              + format_claims(summary["claims"]))
-    (folder / "table.md").write_text(table)
-    (folder / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n")
+    write_atomic(folder / "table.md", table)
+    write_json(folder / "summary.json", summary)
     print(table)
     return summary
 
@@ -283,7 +317,7 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
                                 epilog="config fields for --set:\n  " + "\n  ".join(cfglib.field_paths(config_cls)))
     p.add_argument("--profile", choices=cfglib.PROFILES, default="cpu",
                    help="smoke: seconds (tests); cpu: minutes on a laptop CPU; paper: the paper's settings (GPU)")
-    p.add_argument("--seed", type=int, default=0, help="the one seed every PRNG key derives from")
+    p.add_argument("--seed", type=int, default=None, help="the one seed every PRNG key derives from (default 0)")
     p.add_argument("--seeds", help="comma-separated seeds (e.g. 0,1,2): run each, report mean ± 95%% CI")
     p.add_argument("--out", default="results", help="results root (default: results)")
     p.add_argument("--data-root", help="folder with the real dataset files (default: the embedded dataset)")
@@ -307,6 +341,12 @@ def _parse_formats(text: str) -> tuple[str, ...]:
     return formats
 
 
+def _check_seed(seed: int, flag: str) -> int:
+    if not 0 <= seed <= MAX_SEED:
+        raise SystemExit(f"{flag}: expected a seed from 0 to {MAX_SEED} (2**32 - 1), got {seed}")
+    return seed
+
+
 def _parse_seeds(text: str) -> list[int]:
     try:
         seeds = [int(s) for s in text.split(",") if s.strip()]
@@ -314,7 +354,7 @@ def _parse_seeds(text: str) -> list[int]:
         raise SystemExit(f"--seeds expects comma-separated integers, got {text!r}") from None
     if not seeds or len(set(seeds)) != len(seeds):
         raise SystemExit(f"--seeds expects distinct comma-separated integers, got {text!r}")
-    return seeds
+    return [_check_seed(s, "--seeds") for s in seeds]
 
 
 def _seed_list(seeds: Sequence[int]) -> str:

@@ -2,7 +2,9 @@
 
 Saves are synchronous on purpose: a process killed right after ``save`` returns still leaves a complete
 checkpoint, and orbax writes each step to a temporary folder that it renames only once complete, so a
-kill during a save leaves the previous checkpoint as the latest one.
+kill during a save leaves the previous checkpoint as the latest one; opening the folder again deletes that
+temporary folder. A checkpoint damaged afterwards (a file cut short by a full disk, a bad copy) is skipped
+for the previous one, with a warning (:meth:`Checkpointer.restore`).
 
 Restores take the shardings of the state they restore into: a state replicated on a data mesh
 (:mod:`jaxmotion.train.mesh`) comes back replicated on that mesh, whatever mesh wrote it. With several
@@ -12,11 +14,16 @@ array once and synchronises the processes itself.
 
 from __future__ import annotations
 
+import shutil
+import sys
+import time
 from pathlib import Path
 from typing import Any
 
 import jax
 import orbax.checkpoint as ocp
+
+TMP_MARK = ".orbax-checkpoint-tmp"  # orbax writes a step to <step>.orbax-checkpoint-tmp-<n>, then renames it
 
 
 class Checkpointer:
@@ -28,10 +35,19 @@ class Checkpointer:
 
     def __init__(self, directory: str | Path, *, max_to_keep: int = 2, read_only: bool = False):
         self.directory = Path(directory).absolute()
+        self.read_only = read_only
         options = ocp.CheckpointManagerOptions(
             max_to_keep=max_to_keep, enable_async_checkpointing=False, create=not read_only, read_only=read_only
         )
+        if not read_only and jax.process_index() == 0:
+            self._remove_unfinished()
         self._manager = ocp.CheckpointManager(self.directory, options=options)
+
+    def _remove_unfinished(self) -> None:
+        """Delete the temporary folders of saves that a kill cut short (they are never restored)."""
+        for path in sorted(self.directory.glob(f"*{TMP_MARK}*")):
+            print(f"[checkpoint] removing {path}, left by a save that did not finish", file=sys.stderr)
+            shutil.rmtree(path, ignore_errors=True)
 
     def latest_step(self) -> int | None:
         return self._manager.latest_step()
@@ -41,15 +57,59 @@ class Checkpointer:
         self._manager.wait_until_finished()
 
     def restore(self, like: Any = None, step: int | None = None) -> Any:
-        """Restore ``step`` (default: latest) into the structure, shapes, dtypes and shardings of ``like``.
+        """Restore ``step`` (default: the latest readable one) into the structure, shapes, dtypes and
+        shardings of ``like``.
 
         Without ``like`` the checkpoint comes back as nested dicts and lists of arrays (for inspection).
+        When the latest checkpoint cannot be read (a file cut short or damaged) but an earlier one can, the
+        earlier one is restored, with a warning, and the damaged one is moved to ``<directory>-damaged/``
+        (kept for inspection; a later save of its step must not find it). When none can be read, the error
+        names the folder and nothing is moved: a state that does not fit any checkpoint is not damage.
         """
-        step = self.latest_step() if step is None else step
-        if step is None:
-            raise FileNotFoundError(f"no checkpoint under {self.directory}")
         abstract = None if like is None else jax.tree.map(ocp.utils.to_shape_dtype_struct, like)
-        return self._manager.restore(step, args=ocp.args.StandardRestore(abstract))
+        if step is not None:
+            return self._restore(step, abstract)
+        steps = sorted(self._manager.all_steps(), reverse=True)
+        if not steps:
+            raise FileNotFoundError(f"no checkpoint under {self.directory}")
+        errors = []
+        for candidate in steps:
+            try:
+                state = self._manager.restore(candidate, args=ocp.args.StandardRestore(abstract))
+            except Exception as error:  # orbax and tensorstore raise many types for unreadable files
+                errors.append((candidate, error))
+                continue
+            if errors:
+                moved = not self.read_only and jax.process_index() == 0
+                if moved:
+                    self._set_aside([s for s, _ in errors])
+                print(f"warning: the checkpoint(s) at step {', '.join(str(s) for s, _ in errors)} in "
+                      f"{self.directory} could not be read ({_first_line(errors[0][1])}); restored step "
+                      f"{candidate} instead" + (f" and moved the damaged ones to {self._damaged}" if moved else ""),
+                      file=sys.stderr)
+            return state
+        raise ValueError(f"no checkpoint in {self.directory} could be restored into this state; the latest (step "
+                         f"{steps[0]}): {_first_line(errors[0][1])}") from errors[0][1]
+
+    def _restore(self, step: int, abstract: Any) -> Any:
+        if step not in self._manager.all_steps():
+            raise FileNotFoundError(f"no checkpoint of step {step} under {self.directory}")
+        try:
+            return self._manager.restore(step, args=ocp.args.StandardRestore(abstract))
+        except Exception as error:
+            raise ValueError(f"the checkpoint of step {step} in {self.directory} could not be restored: "
+                             f"{_first_line(error)}") from error
+
+    @property
+    def _damaged(self) -> Path:
+        return self.directory.with_name(self.directory.name + "-damaged")
+
+    def _set_aside(self, steps: list[int]) -> None:
+        self._damaged.mkdir(exist_ok=True)
+        for step in steps:
+            target = self._damaged / f"{step}-{time.strftime('%Y%m%d-%H%M%S')}"
+            shutil.move(self.directory / str(step), target)
+        self._manager.reload()
 
     def close(self) -> None:
         self._manager.close()
@@ -59,3 +119,8 @@ class Checkpointer:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _first_line(error: BaseException) -> str:
+    text = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {text[0][:200] if text else ''}"

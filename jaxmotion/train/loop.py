@@ -32,6 +32,7 @@ Options:
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import sys
@@ -44,6 +45,7 @@ import jax.numpy as jnp
 
 from jax.sharding import Mesh
 
+from jaxmotion.files import FolderLock, write_atomic
 from jaxmotion.train.checkpoint import Checkpointer
 from jaxmotion.train.mesh import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
@@ -99,20 +101,28 @@ def train(
     With ``workdir`` set, checkpoints go to ``workdir/checkpoints`` and averaged metrics to
     ``workdir/metrics.jsonl``; a run that finds a checkpoint resumes from it. Returns the final state.
     """
-    ckpt = Checkpointer(Path(workdir) / "checkpoints", max_to_keep=config.keep_checkpoints) if workdir else None
+    if workdir is None:
+        return _train(state, step_fn, batch_fn, key, config, None, progress, mesh, init_from, eval_fn)
+    with FolderLock(workdir, what="training folder") if is_primary() else contextlib.nullcontext():
+        return _train(state, step_fn, batch_fn, key, config, Path(workdir), progress, mesh, init_from, eval_fn)
+
+
+def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_from, eval_fn):
+    ckpt = Checkpointer(workdir / "checkpoints", max_to_keep=config.keep_checkpoints) if workdir else None
     primary = is_primary()
-    log_path = Path(workdir) / "metrics.jsonl" if workdir and primary else None
+    log_path = workdir / "metrics.jsonl" if workdir and primary else None
     try:
         if mesh is not None:
             state, key = replicate(state, mesh), replicate(key, mesh)
-        if ckpt is not None and ckpt.latest_step() is not None:
+        resumed = ckpt is not None and ckpt.latest_step() is not None
+        if resumed:
             state = ckpt.restore(state)
             _report(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}")
         elif init_from is not None:
             state = _restore_from(init_from, state)
         start = int(state.step)
         if log_path is not None:
-            _truncate_log(log_path, start)
+            _truncate_log(log_path, start, resumed=resumed)
         if start >= config.steps:
             return state
 
@@ -192,9 +202,27 @@ def _append(path: Path | None, record: Mapping[str, Any]) -> None:
             f.write(json.dumps(record) + "\n")
 
 
-def _truncate_log(path: Path, step: int) -> None:
-    """Drop log lines past ``step``: they belong to work the checkpoint does not hold."""
+def _truncate_log(path: Path, step: int, *, resumed: bool) -> None:
+    """Drop log lines past ``step``: they belong to work the checkpoint does not hold. A last line cut short
+    (a kill mid-write) is dropped with a warning; a damaged line before it is an error naming the line."""
     if not path.exists():
+        if resumed and step > 0:
+            _report(f"warning: {path} is missing though the run resumes at step {step}: the log starts at "
+                    f"step {step}; the lines of the steps before are lost")
         return
-    lines = [ln for ln in path.read_text().splitlines() if ln and json.loads(ln)["step"] <= step]
-    path.write_text("".join(ln + "\n" for ln in lines))
+    lines = path.read_text().splitlines()
+    kept = []
+    for number, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        try:
+            record = json.loads(line)
+        except ValueError:
+            if number == len(lines):
+                _report(f"warning: dropping the last line of {path}, cut short by an interrupted write: {line[:80]!r}")
+                continue
+            raise ValueError(f"{path}, line {number}: not a JSON record ({line[:80]!r}); the training log is "
+                             f"damaged; repair or delete that line") from None
+        if record["step"] <= step:
+            kept.append(line)
+    write_atomic(path, "".join(ln + "\n" for ln in kept))

@@ -1,0 +1,129 @@
+"""Files that are whole or absent, and folders one process at a time.
+
+* :func:`write_atomic`: a file is written under a temporary name in its own folder and renamed into place,
+  so a reader (or a re-run after a kill or a full disk) sees the old content or the new, never a part.
+* :class:`FolderLock`: an advisory ``flock`` on ``<folder>/.lock``. ``wait=False`` refuses a folder that
+  another process holds, naming the holder (pid, host, start time, command); ``wait=True`` waits for it
+  (two processes building the same cache: one builds, the other then reads the result). The kernel drops
+  the lock when its holder dies, so a lock left by a killed process (its file still names it; a released
+  one is empty) is taken over, with a message.
+  Locks are re-entrant within a process (an experiment's folder and its training loop's may coincide).
+  ``flock`` needs a POSIX system; on a network file system it is as reliable as that system's locks.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import socket
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+LOCK_NAME = ".lock"
+
+
+def write_atomic(path: str | Path, content: str | bytes) -> None:
+    """Write ``content`` to ``path`` in one rename: on any failure ``path`` keeps what it held before."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(content.encode() if isinstance(content, str) else content)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_json(path: str | Path, value: Any) -> None:
+    """``value`` as indented, key-sorted JSON, written atomically."""
+    write_atomic(path, json.dumps(value, indent=2, sort_keys=True) + "\n")
+
+
+def read_json(path: str | Path) -> Any | None:
+    """The JSON value in ``path``, or None when the file is missing, empty or does not parse."""
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return None
+
+
+class FolderInUseError(RuntimeError):
+    """Another live process holds the folder's lock."""
+
+
+_HELD: dict[Path, list[Any]] = {}  # lock file -> [open file, depth], the locks this process holds
+
+
+class FolderLock:
+    """``with FolderLock(folder, what="run folder"):`` hold ``folder``'s lock (see the module docstring)."""
+
+    def __init__(self, folder: str | Path, *, what: str = "folder", wait: bool = False):
+        self.folder, self.what, self.wait = Path(folder), what, wait
+        self.path = (self.folder / LOCK_NAME).absolute()
+
+    def __enter__(self) -> "FolderLock":
+        held = _HELD.get(self.path)
+        if held is not None:
+            held[1] += 1
+            return self
+        self.folder.mkdir(parents=True, exist_ok=True)
+        f = open(self.path, "a+")
+        try:
+            if not _try_lock(f):
+                holder = _holder(f)
+                if not self.wait:
+                    raise FolderInUseError(
+                        f"{self.folder}: this {self.what} is in use by {holder}; wait for it to finish, "
+                        f"or use another folder (two runs in one folder would mix their logs)")
+                print(f"[lock] waiting for {holder}, which holds {self.folder}", file=sys.stderr)
+                fcntl.flock(f, fcntl.LOCK_EX)
+            previous = _holder(f)  # a holder that released it emptied the file: this one was killed
+            if previous is not None:
+                print(f"[lock] {self.folder}: taking over the lock left by {previous}, which is no longer "
+                      f"running", file=sys.stderr)
+            f.seek(0)
+            f.truncate()
+            f.write(json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "since": time.time(),
+                                "command": " ".join(sys.argv)}) + "\n")
+            f.flush()
+        except BaseException:
+            f.close()
+            raise
+        _HELD[self.path] = [f, 1]
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        held = _HELD[self.path]
+        held[1] -= 1
+        if held[1] == 0:
+            del _HELD[self.path]
+            held[0].truncate(0)  # released, not abandoned (see __enter__)
+            held[0].close()  # closing drops the flock
+
+
+def _try_lock(f) -> bool:
+    try:
+        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return True
+    except BlockingIOError:
+        return False
+
+
+def _holder(f) -> str | None:
+    """Who the lock file says holds (or held) it, in words; None for a new lock file."""
+    f.seek(0)
+    try:
+        info = json.loads(f.read() or "null")
+    except ValueError:
+        return "an unknown process"
+    if not isinstance(info, dict):
+        return None
+    since = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(info.get("since", 0)))
+    return f"process {info.get('pid')} on {info.get('host')} (since {since}: {info.get('command')})"
