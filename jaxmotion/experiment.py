@@ -44,7 +44,7 @@ from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.table import format_table
 from jaxmotion.evaluation.tables import run_table
-from jaxmotion.files import LOCK_NAME, FolderInUseError, FolderLock, read_json, write_atomic, write_json
+from jaxmotion.files import LOCK_NAME, InUseError, folder_lock, read_json, write_atomic, write_json
 from jaxmotion.train.mesh import data_mesh, initialize_distributed, is_primary
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
@@ -170,7 +170,7 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root,
                      tuple(export_formats), devices)
-    with (FolderLock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
+    with (folder_lock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
         return _run_locked(ctx, config, run_fn, claims)
 
 
@@ -281,7 +281,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
                                       export_formats=_parse_formats(args.export), devices=args.devices)
-        except (RunConflictError, FolderInUseError) as err:
+        except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
     if len(seeds) == 1:
         result = per_seed[seeds[0]]

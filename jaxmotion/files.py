@@ -1,10 +1,12 @@
 """Files that are whole or absent, and folders one process at a time.
 
-* :func:`write_atomic`: a file is written under a temporary name in its own folder and renamed into place,
-  so a reader (or a re-run after a kill or a full disk) sees the old content or the new, never a part.
-* :class:`FolderLock`: an advisory ``flock`` on ``<folder>/.lock``. ``wait=False`` refuses a folder that
-  another process holds, naming the holder (pid, host, start time, command); ``wait=True`` waits for it
-  (two processes building the same cache: one builds, the other then reads the result). The kernel drops
+* :func:`write_atomic` / :func:`atomic_file`: a file is written under a temporary name in its own folder and
+  renamed into place, so a reader (or a re-run after a kill or a full disk) sees the old content or the
+  new, never a part.
+* :class:`Lock`: an advisory ``flock`` on a lock file: ``<folder>/.lock`` (:func:`folder_lock`) or
+  ``<file>.lock`` beside a file (:func:`file_lock`). ``wait=False`` refuses what another process holds,
+  naming the holder (pid, host, start time, command); ``wait=True`` waits for it (two processes building
+  the same cache: one builds, the other then reads the result). The kernel drops
   the lock when its holder dies, so a lock left by a killed process (its file still names it; a released
   one is empty) is taken over, with a message.
   Locks are re-entrant within a process (an experiment's folder and its training loop's may coincide).
@@ -13,6 +15,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import json
 import os
@@ -20,25 +23,34 @@ import socket
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 LOCK_NAME = ".lock"
 
 
-def write_atomic(path: str | Path, content: str | bytes) -> None:
-    """Write ``content`` to ``path`` in one rename: on any failure ``path`` keeps what it held before."""
+@contextlib.contextmanager
+def atomic_file(path: str | Path) -> Iterator[BinaryIO]:
+    """``with atomic_file(path) as f:`` write ``f``; ``path`` appears, whole, only if the block succeeds."""
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as f:
-            f.write(content.encode() if isinstance(content, str) else content)
+            yield f
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def write_atomic(path: str | Path, content: str | bytes) -> None:
+    """Write ``content`` to ``path`` in one rename: on any failure ``path`` keeps what it held before."""
+    with atomic_file(path) as f:
+        f.write(content.encode() if isinstance(content, str) else content)
 
 
 def write_json(path: str | Path, value: Any) -> None:
@@ -54,39 +66,38 @@ def read_json(path: str | Path) -> Any | None:
         return None
 
 
-class FolderInUseError(RuntimeError):
-    """Another live process holds the folder's lock."""
+class InUseError(RuntimeError):
+    """Another live process holds the lock."""
 
 
 _HELD: dict[Path, list[Any]] = {}  # lock file -> [open file, depth], the locks this process holds
 
 
-class FolderLock:
-    """``with FolderLock(folder, what="run folder"):`` hold ``folder``'s lock (see the module docstring)."""
+class Lock:
+    """``with Lock(lock_file, guards=path, what="run folder"):`` hold the lock (see the module docstring);
+    messages name ``guards``, the folder or file the lock protects."""
 
-    def __init__(self, folder: str | Path, *, what: str = "folder", wait: bool = False):
-        self.folder, self.what, self.wait = Path(folder), what, wait
-        self.path = (self.folder / LOCK_NAME).absolute()
+    def __init__(self, lock_file: str | Path, *, guards: str | Path, what: str, wait: bool = False):
+        self.path, self.guards, self.what, self.wait = Path(lock_file).absolute(), Path(guards), what, wait
 
-    def __enter__(self) -> "FolderLock":
+    def __enter__(self) -> "Lock":
         held = _HELD.get(self.path)
         if held is not None:
             held[1] += 1
             return self
-        self.folder.mkdir(parents=True, exist_ok=True)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
         f = open(self.path, "a+")
         try:
             if not _try_lock(f):
                 holder = _holder(f)
                 if not self.wait:
-                    raise FolderInUseError(
-                        f"{self.folder}: this {self.what} is in use by {holder}; wait for it to finish, "
-                        f"or use another folder (two runs in one folder would mix their logs)")
-                print(f"[lock] waiting for {holder}, which holds {self.folder}", file=sys.stderr)
+                    raise InUseError(f"{self.guards}: this {self.what} is in use by {holder}; wait for it to "
+                                     f"finish, or use another one (two runs in one would mix their files)")
+                print(f"[lock] waiting for {holder}, which holds {self.guards}", file=sys.stderr)
                 fcntl.flock(f, fcntl.LOCK_EX)
             previous = _holder(f)  # a holder that released it emptied the file: this one was killed
             if previous is not None:
-                print(f"[lock] {self.folder}: taking over the lock left by {previous}, which is no longer "
+                print(f"[lock] {self.guards}: taking over the lock left by {previous}, which is no longer "
                       f"running", file=sys.stderr)
             f.seek(0)
             f.truncate()
@@ -106,6 +117,17 @@ class FolderLock:
             del _HELD[self.path]
             held[0].truncate(0)  # released, not abandoned (see __enter__)
             held[0].close()  # closing drops the flock
+
+
+def folder_lock(folder: str | Path, *, what: str = "folder", wait: bool = False) -> Lock:
+    """The lock of a folder (``<folder>/.lock``; the folder is made if missing)."""
+    return Lock(Path(folder) / LOCK_NAME, guards=folder, what=what, wait=wait)
+
+
+def file_lock(path: str | Path, *, what: str = "file", wait: bool = False) -> Lock:
+    """The lock of one file (``<file>.lock`` beside it), e.g. a cache entry that several processes build."""
+    path = Path(path)
+    return Lock(path.with_name(path.name + ".lock"), guards=path, what=what, wait=wait)
 
 
 def _try_lock(f) -> bool:

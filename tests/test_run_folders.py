@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from jaxmotion import experiment
-from jaxmotion.files import LOCK_NAME, FolderLock, read_json, write_atomic
+from jaxmotion.files import LOCK_NAME, folder_lock, read_json, write_atomic
 from jaxmotion.train import Checkpointer, LoopConfig, train
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -72,29 +72,29 @@ def test_the_lock_of_a_killed_run_is_taken_over(tmp_path):
 
 
 def test_folder_locks_are_reentrant_in_a_process_and_exclusive_across_processes(tmp_path, capsys):
-    with FolderLock(tmp_path, what="test folder"):
-        with FolderLock(tmp_path):  # the experiment and its loop may lock one folder
+    with folder_lock(tmp_path, what="test folder"):
+        with folder_lock(tmp_path):  # the experiment and its loop may lock one folder
             pass
         holder = json.loads((tmp_path / LOCK_NAME).read_text())
         assert holder["pid"] == os.getpid()
-        probe = ("import sys; from jaxmotion.files import FolderLock\n"
-                 f"with FolderLock({str(tmp_path)!r}, what='test folder'): pass")
+        probe = ("import sys; from jaxmotion.files import folder_lock\n"
+                 f"with folder_lock({str(tmp_path)!r}, what='test folder'): pass")
         other = subprocess.run([sys.executable, "-c", probe], env=ENV, capture_output=True, text=True)
         assert other.returncode != 0 and f"test folder is in use by process {os.getpid()}" in other.stderr
     assert (tmp_path / LOCK_NAME).read_text() == ""  # released, not abandoned: the next holder says nothing
-    with FolderLock(tmp_path):
+    with folder_lock(tmp_path):
         pass
     assert "taking over" not in capsys.readouterr().err
 
 
 def test_a_waiting_lock_waits_for_the_holder(tmp_path):
-    probe = ("import time; from jaxmotion.files import FolderLock\n"
-             f"with FolderLock({str(tmp_path)!r}):\n"
+    probe = ("import time; from jaxmotion.files import folder_lock\n"
+             f"with folder_lock({str(tmp_path)!r}):\n"
              f"    open({str(tmp_path / 'held')!r}, 'w').close(); time.sleep(1.5)\n"
              f"    open({str(tmp_path / 'done')!r}, 'w').close()")
     holder = subprocess.Popen([sys.executable, "-c", probe], env=ENV)
     _wait_for(tmp_path / "held", holder)
-    with FolderLock(tmp_path, wait=True):
+    with folder_lock(tmp_path, wait=True):
         assert (tmp_path / "done").exists()
     assert holder.wait() == 0
 
@@ -209,10 +209,6 @@ def _damage_latest(checkpoints: Path, step: int) -> None:
         f.truncate(data.stat().st_size // 2)
 
 
-ORBAX_ABANDONED_READS = pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
-
-
-@ORBAX_ABANDONED_READS  # a failed restore leaves tensorstore reads never awaited
 def test_a_damaged_latest_checkpoint_falls_back_to_the_previous_one(tmp_path, capsys):
     whole = _counter_run(tmp_path / "whole")
     _counter_run(tmp_path / "broken", steps=4)
@@ -226,7 +222,6 @@ def test_a_damaged_latest_checkpoint_falls_back_to_the_previous_one(tmp_path, ca
     assert Checkpointer(tmp_path / "broken" / "checkpoints").latest_step() == 6
 
 
-@ORBAX_ABANDONED_READS
 def test_a_state_fitting_no_checkpoint_is_an_error_naming_the_folder_and_moves_nothing(tmp_path):
     _counter_run(tmp_path, steps=4)
     with pytest.raises(ValueError, match=f"no checkpoint in {tmp_path / 'checkpoints'} could be restored"):

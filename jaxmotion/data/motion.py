@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from jaxmotion.files import atomic_file
 from jaxmotion.geometry.skeletons import CMU_MOCAP20, NTU25, SMPL24, UESTC18, Skeleton
 
 #: Joint layouts a dataset may use, by the name stored in cache files.
@@ -159,27 +161,34 @@ class MotionDataset:
 
     # --- persistence ---------------------------------------------------------------------------------
 
-    def save(self, path: str | Path) -> None:
-        """Write the dataset to one ``.npz`` (arrays plus a JSON header); ``load`` reads it back."""
+    def save(self, path: str | Path, *, source: Mapping[str, Any] | None = None) -> None:
+        """Write the dataset to one ``.npz`` (arrays plus a JSON header), atomically; ``load`` reads it back.
+        ``source``: what the data was made from (a cache's variant, seed, generator version...), kept in the
+        header so that a reader can check the file holds what it expects."""
         header = {
             "name": self.name, "split": self.split, "class_names": list(self.class_names),
             "skeleton": self.skeleton.name, "fps": self.fps, "names": list(self.names),
-            "mode_names": [list(m) for m in self.mode_names],
+            "mode_names": [list(m) for m in self.mode_names], "source": None if source is None else dict(source),
         }
         arrays = {k: getattr(self, k) for k in ("joints", "translation", "starts", "actions", "modes", "subjects")}
         if self.rotations is not None:
             arrays["rotations"] = self.rotations
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, header=np.array(json.dumps(header)), **arrays)
-        tmp.replace(path)  # atomic: a killed generation never leaves a half-written cache
+        with atomic_file(path) as f:  # a killed generation never leaves a half-written cache
+            np.savez(f, header=np.array(json.dumps(header)), **arrays)
 
     @classmethod
-    def load(cls, path: str | Path) -> "MotionDataset":
+    def load(cls, path: str | Path, *, source: Mapping[str, Any] | None = None) -> "MotionDataset":
+        """Read a file ``save`` wrote. ``source``: what it must have been made from (each key compared with
+        the recorded ``source``); a file made from something else is a :class:`SourceMismatchError`."""
         with np.load(path, allow_pickle=False) as data:
             header = json.loads(str(data["header"]))
             arrays = {k: data[k] for k in data.files if k != "header"}
+        if source is not None:
+            recorded = header.get("source") or {}
+            differences = [f"{k}: {recorded.get(k, '<not recorded>')!r} (expected {v!r})"
+                           for k, v in source.items() if recorded.get(k, "<not recorded>") != v]
+            if differences:
+                raise SourceMismatchError(f"{path} holds other data: " + "; ".join(differences))
         if header["skeleton"] not in SKELETONS:
             raise ValueError(f"{path}: unknown skeleton {header['skeleton']!r}; known: {sorted(SKELETONS)}")
         return cls(
@@ -189,6 +198,10 @@ class MotionDataset:
             starts=arrays["starts"], actions=arrays["actions"], modes=arrays["modes"], subjects=arrays["subjects"],
             names=tuple(header["names"]), mode_names=tuple(tuple(m) for m in header["mode_names"]),
         )
+
+
+class SourceMismatchError(ValueError):
+    """A saved dataset was made from something other than what its reader expects."""
 
 
 def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Sequence[str], skeleton: Skeleton,

@@ -45,7 +45,7 @@ import jax.numpy as jnp
 
 from jax.sharding import Mesh
 
-from jaxmotion.files import FolderLock, write_atomic
+from jaxmotion.files import folder_lock, write_atomic
 from jaxmotion.train.checkpoint import Checkpointer
 from jaxmotion.train.mesh import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
@@ -103,7 +103,7 @@ def train(
     """
     if workdir is None:
         return _train(state, step_fn, batch_fn, key, config, None, progress, mesh, init_from, eval_fn)
-    with FolderLock(workdir, what="training folder") if is_primary() else contextlib.nullcontext():
+    with folder_lock(workdir, what="training folder") if is_primary() else contextlib.nullcontext():
         return _train(state, step_fn, batch_fn, key, config, Path(workdir), progress, mesh, init_from, eval_fn)
 
 

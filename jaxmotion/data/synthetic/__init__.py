@@ -32,18 +32,20 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 from types import MappingProxyType
+from typing import Any
 
 import numpy as np
 
 from jaxmotion.cache import cache_root
+from jaxmotion.files import file_lock
 from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
 from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
-from jaxmotion.data.motion import MotionDataset, concatenate
+from jaxmotion.data.motion import MotionDataset, SourceMismatchError, concatenate
 from jaxmotion.data.synthetic import cmu, humanact12, ntu13, uestc
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
 from jaxmotion.data.synthetic.noise import EstimateNoise
 
-__all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "generate", "load",
+__all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "cache_source", "generate", "load",
            "subject_offsets"]
 
 GENERATOR_VERSION = 3  # 3: CMU Step/Climb go up (per-foot support height); in-place flights land where they stood
@@ -113,16 +115,34 @@ def cache_path(name: str, split: str = "train", *, seed: int = 0, cache_dir: str
     return cache_root(cache_dir) / f"{name}-{split}-seed{seed}-v{GENERATOR_VERSION}.npz"
 
 
+def cache_source(name: str, split: str = "train", *, seed: int = 0) -> dict[str, Any]:
+    """What a cached split is generated from, recorded in its file and checked when it is read."""
+    return {"variant": name, "split": split, "seed": seed, "generator_version": GENERATOR_VERSION, "count": None}
+
+
 def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> MotionDataset:
-    """A split, generated on first use and cached as ``.npz`` (see :func:`cache_path`)."""
+    """A split, generated on first use and cached as ``.npz`` (see :func:`cache_path`).
+
+    The file records what it was generated from (variant, split, seed, generator version, count), checked
+    on every load; a file that holds something else or cannot be read is generated again, with a message
+    naming it. Processes that want the same split at once generate it once: the others wait, then read it.
+    """
     _splits(_variant(name), split)
     path = cache_path(name, split, seed=seed, cache_dir=cache_dir)
-    if path.exists():
-        return MotionDataset.load(path)
-    data = generate(name, split, seed=seed, progress=True)  # minutes for a full split: say so
-    print(f"[data] cached {name}/{split} in {path}", file=sys.stderr)
-    data.save(path)
-    return data
+    source = cache_source(name, split, seed=seed)
+    with file_lock(path, what="dataset cache", wait=True):
+        if path.exists():
+            try:
+                return MotionDataset.load(path, source=source)
+            except SourceMismatchError as error:
+                reason = str(error)
+            except Exception as error:  # numpy, zipfile and json raise many types for a damaged file
+                reason = f"{path} cannot be read ({type(error).__name__}: {error})"
+            print(f"[data] generating {name}/{split} again: {reason}", file=sys.stderr)
+        data = generate(name, split, seed=seed, progress=True)  # minutes for a full split: say so
+        print(f"[data] cached {name}/{split} in {path}", file=sys.stderr)
+        data.save(path, source=source)
+        return data
 
 
 def subject_offsets(name: str, subject_id: int, *, seed: int = 0) -> np.ndarray:
