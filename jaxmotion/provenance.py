@@ -1,12 +1,13 @@
 """What a run was made with, for its record: the software and machine, the datasets and the evaluators.
 
 * :func:`environment`: jaxmotion's version and git commit (when run from a checkout), Python, jax and jaxlib
-  versions, the platform and the device and process counts.
+  versions, the platform, the device and process counts and the usable CPU cores.
 * :func:`inputs`: every dataset and evaluator a config names (found by walking it: each
   :class:`~jaxmotion.evaluation.tables.TableData` and
   :class:`~jaxmotion.evaluation.recognizers.RecognizerTraining`), each with what identifies its content: an
-  embedded dataset's generator version and cache file, a real dataset's absolute folder, an evaluator's
-  cache key. A folder whose inputs differ from the ones it was made with is not resumed.
+  embedded dataset's generator version and cache file, a real dataset's resolved folder and a manifest of
+  its files, an evaluator's cache key. A folder whose inputs differ from the ones it was made with is not
+  resumed.
 * :func:`evaluators`: after a run, each evaluator's cache key and held-out accuracy (its ``recognizer.json``).
 """
 
@@ -25,7 +26,7 @@ from typing import Any
 import jax
 
 from jaxmotion.data import synthetic
-from jaxmotion.evaluation.recognizers import RecognizerTraining, cache_folder
+from jaxmotion.evaluation.recognizers import RecognizerTraining, cache_folder, data_source, usable_cpus
 from jaxmotion.evaluation.tables import TableData
 
 
@@ -62,6 +63,7 @@ def environment() -> dict[str, Any]:
         "devices": jax.device_count(),
         "local_devices": jax.local_device_count(),
         "processes": jax.process_count(),
+        "cpu_threads": usable_cpus(),  # XLA's CPU reductions split over them: another count rounds differently
     }
 
 
@@ -82,7 +84,7 @@ def _dataset(name: str, split: str, seed: int, count: int | None, data_root: str
         entry.update(seed=seed, generator_version=synthetic.GENERATOR_VERSION,
                      cache_file=None if count is not None else synthetic.cache_path(name, split, seed=seed).name)
     else:
-        entry["data_root"] = None if data_root is None else str(Path(data_root).resolve())
+        entry.update(data_source(name, data_root))  # the resolved folder and a manifest of its files
     return entry
 
 

@@ -2,6 +2,10 @@
 
 import dataclasses
 import json
+import pickle
+import subprocess
+import sys
+import time
 
 import jax
 import jax.numpy as jnp
@@ -11,12 +15,14 @@ import pytest
 from jaxmotion.config import replace_paths
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
+from jaxmotion.evaluation import recognizers
 from jaxmotion.evaluation.recognizers import (
     EVALUATORS,
     cache_folder,
     evaluator_spec,
     trained_recognizer,
 )
+from jaxmotion.files import folder_lock
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models.recognition import (
@@ -109,6 +115,67 @@ def test_cache_folder_changes_with_every_field_of_the_spec(tmp_path):
                cache_folder(dataclasses.replace(spec, recognizer=SMALL_GRU), tmp_path),
                cache_folder(dataclasses.replace(spec, input_noise=0.01), tmp_path)}
     assert len(folders) == 5
+
+
+def _humanact12_folder(folder, clips=(30, 40, 35, 50)):
+    """A tiny HumanAct12 folder in the authors' pickle layout (every clip train; no test split)."""
+    rng = np.random.default_rng(0)
+    folder.mkdir(parents=True, exist_ok=True)
+    data = {"poses": [0.1 * rng.normal(size=(t, 72)) for t in clips],
+            "joints3D": [rng.normal(size=(t, 24, 3)) for t in clips], "y": [i % 12 for i in range(len(clips))],
+            "oldposes": []}
+    (folder / "humanact12poses.pkl").write_bytes(pickle.dumps(data))
+    return folder
+
+
+def test_a_real_data_evaluator_is_keyed_by_the_resolved_folder_and_its_files(tmp_path, monkeypatch):
+    spec = dataclasses.replace(evaluator_spec("synth-humanact12/gru", "smoke"), dataset="humanact12")
+    for name in ("a", "b"):
+        _humanact12_folder(tmp_path / name / "data")
+    monkeypatch.chdir(tmp_path / "a")
+    in_a = cache_folder(spec, tmp_path, data_root="data")
+    assert cache_folder(spec, tmp_path, data_root=str(tmp_path / "a" / "data")) == in_a  # two spellings, one folder
+    monkeypatch.chdir(tmp_path / "b")
+    assert cache_folder(spec, tmp_path, data_root="data") != in_a  # one spelling, two folders
+    in_b = cache_folder(spec, tmp_path, data_root="data")
+    (tmp_path / "b" / "data" / "extra.npy").write_bytes(b"1")
+    assert cache_folder(spec, tmp_path, data_root="data") != in_b  # the files changed
+
+
+def test_the_evaluator_cache_key_holds_the_usable_cpu_cores(tmp_path, monkeypatch):
+    spec = evaluator_spec("synth-humanact12/gru", "smoke")
+    two = cache_folder(spec, tmp_path)
+    monkeypatch.setattr(recognizers, "usable_cpus", lambda: 1)  # e.g. under taskset -c 0
+    assert cache_folder(spec, tmp_path) != two
+    assert recognizers.training_machine()["cpu_threads"] == 1
+
+
+def test_a_real_dataset_without_a_test_split_fails_before_training(tmp_path):
+    spec = dataclasses.replace(evaluator_spec("synth-humanact12/gru", "smoke"), dataset="humanact12", count=None)
+    root = _humanact12_folder(tmp_path / "HumanAct12Poses")
+    with pytest.raises(ValueError, match="no split 'test'"):
+        trained_recognizer(spec, cache_dir=tmp_path / "cache", data_root=str(root), progress=False)
+    assert not (cache_folder(spec, tmp_path / "cache", data_root=str(root)) / "checkpoints").exists()
+
+
+@pytest.mark.slow
+def test_a_second_process_wanting_an_evaluator_in_training_waits_and_reads_it(tmp_path):
+    spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"), {"window": 30, "loop.steps": 10})
+    probe = ("import sys; from jaxmotion.evaluation.recognizers import evaluator_spec, trained_recognizer\n"
+             "from jaxmotion.config import replace_paths\n"
+             "spec = replace_paths(evaluator_spec('synth-humanact12/gru', 'smoke'), {'window': 30, 'loop.steps': 10})\n"
+             f"_, record = trained_recognizer(spec, cache_dir={str(tmp_path)!r})\nprint(record['held_out']['accuracy'])")
+    log = tmp_path / "other.log"
+    with folder_lock(cache_folder(spec, tmp_path), what="evaluator cache"), log.open("w") as err:
+        other = subprocess.Popen([sys.executable, "-c", probe], stdout=subprocess.PIPE, stderr=err, text=True)
+        deadline = time.monotonic() + 120
+        while "waiting for" not in log.read_text():
+            assert other.poll() is None and time.monotonic() < deadline, log.read_text()
+            time.sleep(0.05)
+        _, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
+    out, _ = other.communicate(timeout=300)
+    assert other.returncode == 0, log.read_text()
+    assert float(out) == record["held_out"]["accuracy"] and "[evaluator] training" not in log.read_text()
 
 
 @pytest.mark.slow

@@ -18,9 +18,11 @@ embedded datasets, the same generator run with ``test_data_seed`` (new subjects 
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import json
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -46,7 +48,9 @@ from jaxmotion.models.recognition import (
     init_recognizer,
     recognizer_inputs,
 )
+from jaxmotion.files import folder_lock, read_json, write_json
 from jaxmotion.train.checkpoint import Checkpointer
+from jaxmotion.train.mesh import is_primary
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 
@@ -233,38 +237,69 @@ CACHE_VERSION = 3
 
 
 def cache_folder(spec: RecognizerTraining, cache_dir: str | Path | None = None, data_root: str | None = None) -> Path:
-    """Where the evaluator ``spec`` is kept: the hash covers the spec, the data source and, for embedded
-    data, the generator version (a regenerated dataset gets a new evaluator)."""
-    source = synthetic.GENERATOR_VERSION if spec.dataset in synthetic.VARIANTS else str(data_root)
-    text = json.dumps({"spec": cfglib.to_dict(spec), "source": source, "version": CACHE_VERSION}, sort_keys=True)
+    """Where the evaluator ``spec`` is kept. The hash covers the spec, what it trains on (embedded data: the
+    generator version; real data: the folder's resolved path and a manifest of its files) and what else
+    changes the trained weights (:func:`training_machine`)."""
+    text = json.dumps({"spec": cfglib.to_dict(spec), "source": data_source(spec.dataset, data_root),
+                       "machine": training_machine(), "version": CACHE_VERSION}, sort_keys=True)
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
     return cache_root(cache_dir) / "recognizers" / f"{spec.dataset}-{spec.recognizer.architecture}-{digest}"
+
+
+def data_source(dataset: str, data_root: str | Path | None) -> dict[str, Any]:
+    """What identifies a dataset's content: an embedded one's generator version; a real one's folder (resolved,
+    so two spellings of one folder agree and one spelling of two folders does not) and every file under it
+    (relative path, size, modification time)."""
+    if dataset in synthetic.VARIANTS:
+        return {"generator_version": synthetic.GENERATOR_VERSION}
+    if data_root is None:
+        return {"data_root": None}
+    root = Path(data_root).resolve()
+    files = sorted((str(p.relative_to(root)), p.stat().st_size, p.stat().st_mtime_ns)
+                   for p in root.rglob("*") if p.is_file())
+    manifest = hashlib.sha256(json.dumps(files).encode()).hexdigest()
+    return {"data_root": str(root), "files": len(files), "manifest": manifest}
+
+
+def training_machine() -> dict[str, Any]:
+    """What of the machine changes a training's floating-point result: the backend and device kind and, on
+    CPU, the number of cores this process may use (XLA splits its reductions over them, so one core and two
+    round differently)."""
+    device = jax.devices()[0]
+    machine = {"backend": device.platform, "device_kind": device.device_kind}
+    if device.platform == "cpu":
+        machine["cpu_threads"] = usable_cpus()
+    return machine
+
+
+def usable_cpus() -> int:
+    """The CPU cores this process may run on (its affinity, e.g. under ``taskset``), else all of them."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None = None,
                        data_root: str | None = None, progress: bool = True) -> tuple[Recognizer, dict[str, Any]]:
     """The evaluator ``spec`` and its ``recognizer.json`` record (spec, held-out accuracy), trained on
-    first use and read from the cache afterwards."""
+    first use and read from the cache afterwards. A second process asking for an evaluator that one is
+    training waits for it, then reads it."""
     folder = cache_folder(spec, cache_dir, data_root)
-    record_path = folder / "recognizer.json"
-    if record_path.exists():
-        record = json.loads(record_path.read_text())
-        skeleton = SKELETONS[record["skeleton"]]
-        like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]))
-        with Checkpointer(folder / "checkpoints") as ckpt:
-            state = ckpt.restore(like)
-        return _recognizer(spec, skeleton, record["class_names"], state), record
-    print(f"[evaluator] training {spec.name} ({spec.loop.steps} steps) once; cached in {folder}", file=sys.stderr)
-    folder.mkdir(parents=True, exist_ok=True)
-    recognizer = train_recognizer(spec, folder, data_root=data_root, progress=progress)
-    held_out = evaluate_recognizer(recognizer, held_out_data(spec, data_root), jax.random.key(spec.seed + 1),
-                                   window=spec.window, count=spec.test_count)
-    record = {"spec": cfglib.to_dict(spec), "class_names": list(recognizer.class_names),
-              "skeleton": recognizer.skeleton.name, "held_out": held_out}
-    print(f"[evaluator] {spec.name}: held-out accuracy {100 * held_out['accuracy']:.1f}% on {held_out['clips']} clips",
-          file=sys.stderr)
-    tmp = record_path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(record, indent=2, sort_keys=True) + "\n")
-    tmp.replace(record_path)  # written last and atomically: its presence marks the evaluator as finished
-    return recognizer, record
-
+    with folder_lock(folder, what="evaluator cache", wait=True) if is_primary() else contextlib.nullcontext():
+        record = read_json(folder / "recognizer.json")
+        if record is not None:
+            skeleton = SKELETONS[record["skeleton"]]
+            like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]))
+            with Checkpointer(folder / "checkpoints") as ckpt:
+                state = ckpt.restore(like)
+            return _recognizer(spec, skeleton, record["class_names"], state), record
+        held_out_set = held_out_data(spec, data_root)  # before training: a dataset without one fails now
+        print(f"[evaluator] training {spec.name} ({spec.loop.steps} steps) once; cached in {folder}", file=sys.stderr)
+        recognizer = train_recognizer(spec, folder, data_root=data_root, progress=progress)
+        held_out = evaluate_recognizer(recognizer, held_out_set, jax.random.key(spec.seed + 1),
+                                       window=spec.window, count=spec.test_count)
+        record = {"spec": cfglib.to_dict(spec), "class_names": list(recognizer.class_names),
+                  "skeleton": recognizer.skeleton.name, "held_out": held_out, "machine": training_machine()}
+        print(f"[evaluator] {spec.name}: held-out accuracy {100 * held_out['accuracy']:.1f}% on "
+              f"{held_out['clips']} clips", file=sys.stderr)
+        if is_primary():
+            write_json(folder / "recognizer.json", record)  # written last: its presence marks the evaluator finished
+        return recognizer, record
