@@ -21,6 +21,15 @@ def dataset_names() -> dict[str, tuple[str, ...]]:
     return {"embedded": tuple(sorted(synthetic.VARIANTS)), "real": tuple(sorted(formats.REAL_LOADERS))}
 
 
+def check_dataset_name(name: str, where: str = "dataset") -> str:
+    """``name`` if it is a loadable dataset, else a ``ValueError`` from ``where`` listing the names."""
+    names = dataset_names()
+    if name not in names["embedded"] and name not in names["real"]:
+        raise ValueError(f"{where}: unknown dataset {name!r}; embedded: {', '.join(names['embedded'])}; "
+                         f"real (with data_root): {', '.join(names['real'])}")
+    return name
+
+
 def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: str | Path | None = None,
                  count: int | None = None) -> MotionDataset:
     """Load a dataset split as a packed ``MotionDataset`` (index it, iterate it, batch it).
@@ -32,7 +41,7 @@ def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: s
     """
     if count is not None and count < 1:
         raise ValueError(f"count: expected a positive number of sequences or None, got {count}")
-    names = dataset_names()
+    check_dataset_name(name)
     if name in synthetic.VARIANTS:
         if data_root is not None:
             raise ValueError(f"{name} is generated, not read: drop data_root, or load the real "
@@ -40,12 +49,9 @@ def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: s
         if count is not None:
             return synthetic.generate(name, split, seed=seed, count=count)
         return synthetic.load(name, split, seed=seed)
-    if name in formats.REAL_LOADERS:
-        if data_root is None:
-            stand_in = EMBEDDED_PREFIX + name
-            hint = f"; its embedded stand-in is {stand_in!r}" if stand_in in synthetic.VARIANTS else ""
-            raise ValueError(f"the real dataset {name!r} needs data_root (the folder with its files){hint}")
-        data = formats.REAL_LOADERS[name](data_root, split)
-        return data if count is None else data.subset(np.arange(min(count, len(data))))
-    raise ValueError(f"unknown dataset {name!r}; embedded: {', '.join(names['embedded'])}; "
-                     f"real (with data_root): {', '.join(names['real'])}")
+    if data_root is None:
+        stand_in = EMBEDDED_PREFIX + name
+        hint = f"; its embedded stand-in is {stand_in!r}" if stand_in in synthetic.VARIANTS else ""
+        raise ValueError(f"the real dataset {name!r} needs data_root (the folder with its files){hint}")
+    data = formats.REAL_LOADERS[name](data_root, split)
+    return data if count is None else data.subset(np.arange(min(count, len(data))))

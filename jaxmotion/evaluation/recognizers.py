@@ -36,7 +36,7 @@ from flax.training.train_state import TrainState
 from jaxmotion import config as cfglib
 from jaxmotion.cache import cache_root
 from jaxmotion.data import synthetic
-from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import SKELETONS, MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
 from jaxmotion.geometry.skeletons import Skeleton
@@ -83,6 +83,7 @@ class RecognizerTraining:
     input_noise: float = 0.0
 
     def __post_init__(self):
+        check_dataset_name(self.dataset, "RecognizerTraining.dataset")
         if self.loop.steps < 1 or self.batch_size < 1 or self.window < 1:
             raise ValueError(f"RecognizerTraining: loop.steps, batch_size and window must be >= 1 "
                              f"(got {self.loop.steps}, {self.batch_size}, {self.window})")

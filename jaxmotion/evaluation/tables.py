@@ -32,9 +32,9 @@ import numpy as np
 from jax.sharding import Mesh
 
 from jaxmotion.data import synthetic
-from jaxmotion.data.datasets import PAPER_SIZES, load_dataset
+from jaxmotion.data.datasets import PAPER_SIZES, check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, evaluate
+from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, check_inputs, evaluate
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
 from jaxmotion.geometry.skeletons import Skeleton
 
@@ -91,6 +91,7 @@ class TableData:
     test_split: bool = True
 
     def __post_init__(self):
+        check_dataset_name(self.name, "TableData.name")
         variant = synthetic.VARIANTS.get(self.name)
         if self.test_split and variant is not None and "test" not in variant.splits:
             raise ValueError(f"TableData.test_split: {self.name} has no test split; set test_split=False")
@@ -217,6 +218,8 @@ def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str |
     together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``mesh``: train and
     evaluate data-parallel on it (None: one device)."""
     real = real_sets(table.data, data_root)
+    recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)
+    check_inputs(recognizer, real, table.protocol)  # before any row trains
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
     return paper_columns(score_rows(eval_key, samplers, real, table.evaluator, table.protocol, data_root=data_root,
                                     mesh=mesh), columns)

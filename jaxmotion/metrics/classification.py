@@ -12,13 +12,24 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.data.labels import check_actions
 
-@jax.jit(static_argnames="num_classes")
+
 def confusion_matrix(labels: jax.Array, predictions: jax.Array, num_classes: int) -> jax.Array:
-    """``[C, C]`` counts (int32): row = true class, column = predicted class; ``labels``, ``predictions [N]``."""
+    """``[C, C]`` counts (int32): row = true class, column = predicted class; ``labels``, ``predictions [N]``,
+    class ids in ``[0, C)`` (checked where the values are concrete: bincount would count -1 as class 0 and
+    drop an id >= C)."""
+    labels, predictions = jnp.asarray(labels), jnp.asarray(predictions)
     if labels.ndim != 1 or predictions.shape != labels.shape:
         raise ValueError(f"confusion_matrix: expected labels [N] and predictions [N], got "
                          f"{tuple(labels.shape)} and {tuple(predictions.shape)}")
+    check_actions(labels, num_classes, where="confusion_matrix: labels")
+    check_actions(predictions, num_classes, where="confusion_matrix: predictions")
+    return _confusion(labels, predictions, num_classes)
+
+
+@jax.jit(static_argnames="num_classes")
+def _confusion(labels: jax.Array, predictions: jax.Array, num_classes: int) -> jax.Array:
     flat = labels.astype(jnp.int32) * num_classes + predictions.astype(jnp.int32)
     return jnp.bincount(flat, length=num_classes * num_classes).reshape(num_classes, num_classes)
 

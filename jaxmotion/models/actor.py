@@ -65,6 +65,7 @@ from jaxmotion.geometry.rotations import (
     to_matrix,
 )
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.nn.core import (
     LayerNormParams,
     LinearParams,
@@ -324,6 +325,7 @@ def _check_motion(config: ActorConfig, x: jax.Array, actions: jax.Array, mask: j
         raise ValueError(f"actions: expected [B] = ({x.shape[0]},), got {tuple(actions.shape)}")
     if mask.shape != x.shape[:2]:
         raise ValueError(f"mask: expected [B, T] = {tuple(x.shape[:2])}, got {tuple(mask.shape)}")
+    check_actions(actions, config.num_classes)
 
 
 def _check_fc_frames(config: ActorConfig, frames: int) -> None:
@@ -559,6 +561,7 @@ def decode(params: AnyActorParams, config: ActorConfig, z: jax.Array, actions: j
     if actions.shape != z.shape[:1] or mask.ndim != 2 or mask.shape[0] != z.shape[0]:
         raise ValueError(f"actions, mask: expected [B] and [B, T] with B = {z.shape[0]}, got "
                          f"{tuple(actions.shape)} and {tuple(mask.shape)}")
+    check_actions(actions, config.num_classes)
     variant = _variant(params, config)
     if config.architecture != "autoregressive":
         if target is not None:
@@ -602,6 +605,8 @@ def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, action
     """Sample ``z ~ N(0, I)`` and decode: ``actions [B]``, ``durations [B]`` (each <= ``frames``) ->
     ``(x [B, frames, J, C], mask [B, frames])``; frames past a duration are zero and unmasked. The
     autoregressive decoder runs frame by frame; ``"fc"`` needs ``frames == config.frames``."""
+    check_actions(actions, config.num_classes)
+    check_durations(durations, jnp.shape(actions)[0], frames)
     actions = jnp.asarray(actions)
     z = jax.random.normal(key, (actions.shape[0], config.width))
     mask = length_mask(durations, frames)

@@ -13,6 +13,7 @@ import numpy as np
 
 from jaxmotion.data.pipeline import window_frames
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.models.a2m import A2MVAEConfig, A2MVAEParams, a2m_generate
 
 
@@ -39,10 +40,11 @@ def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
                          f"joints of {skeleton.name}")
 
     def sampler(key, actions, durations):
+        check_actions(actions, config.num_classes)
+        check_durations(durations, len(actions))
         actions, durations = np.asarray(actions, np.int32), np.asarray(durations, np.int32)
-        if actions.ndim != 1 or durations.shape != actions.shape or durations.size == 0 or durations.min() < 1:
-            raise ValueError(f"actions, durations: expected two non-empty [N] arrays, durations >= 1; got shapes "
-                             f"{actions.shape}, {durations.shape}")
+        if actions.size == 0:
+            raise ValueError("actions: expected a non-empty [N] array of class ids, got none")
         keys = np.asarray(jax.vmap(lambda n: jax.random.key_data(jax.random.fold_in(key, n)))(
             jnp.arange(len(actions))))
         frames = int(durations.max())

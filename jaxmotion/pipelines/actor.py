@@ -48,6 +48,7 @@ from jaxmotion.data.preview import render_grid
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.models.actor import (
     ActorConfig,
     AnyActorParams,
@@ -164,14 +165,10 @@ def _check_model(config: ActorConfig, skeleton: Skeleton) -> None:
 
 def _check_labels(actions, durations, num_classes: int) -> tuple[np.ndarray, np.ndarray]:
     actions, durations = np.asarray(actions), np.asarray(durations)
-    if actions.ndim != 1 or actions.size == 0 or not np.issubdtype(actions.dtype, np.integer):
+    if actions.size == 0:
         raise ValueError(f"actions: expected a non-empty [N] integer array, got {actions.dtype} {actions.shape}")
-    if actions.min() < 0 or actions.max() >= num_classes:
-        raise ValueError(f"actions: expected class indices in [0, {num_classes}), "
-                         f"got [{actions.min()}, {actions.max()}]")
-    if durations.shape != actions.shape or not np.issubdtype(durations.dtype, np.integer) or durations.min() < 1:
-        raise ValueError(f"durations: expected [N] = {actions.shape} integers >= 1, got {durations.dtype} "
-                         f"{durations.shape}" + (f" with minimum {durations.min()}" if durations.size else ""))
+    check_actions(actions, num_classes)
+    check_durations(durations, len(actions))
     return actions.astype(np.int32), durations.astype(np.int32)
 
 
@@ -268,6 +265,8 @@ def actor_sampler(params: AnyActorParams, config: ActorConfig, skeleton: Skeleto
     _check_model(config, skeleton)
 
     def sampler(key, actions, durations):
+        check_actions(actions, config.num_classes)
+        check_durations(durations, len(actions))
         durations = np.asarray(durations, np.int32)
         return _generate(params, _row_keys(key, len(durations)), jnp.asarray(actions, jnp.int32),
                          jnp.asarray(durations), frames=int(durations.max()), config=config, skeleton=skeleton)
