@@ -239,6 +239,16 @@ def test_malformed_bvh_is_rejected_naming_the_line(tmp_path, old, new, message):
         export.load_bvh(path)
 
 
+def test_bvh_with_non_finite_channel_values_is_rejected_naming_the_line(tmp_path):
+    path = tmp_path / "nan.bvh"
+    lines = MIXED_ORDERS_BVH.splitlines()
+    last = len(lines) - 1
+    lines[last] = " ".join(["nan"] + lines[last].split()[1:])
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=f"line {last + 1}: expected finite numbers, got \\['nan'\\]"):
+        export.load_bvh(path)
+
+
 def test_truncated_bvh_is_an_unexpected_end_of_file(tmp_path):
     path = tmp_path / "short.bvh"
     path.write_text(MIXED_ORDERS_BVH.split("  JOINT")[0])
@@ -397,6 +407,7 @@ BAD_BATCHES = [
     ({"lengths": np.array([16, 17, 5])}, "lengths: expected [N] = (3,) integers in [1, T = 16]"),
     ({"lengths": None, "mask": np.ones((3, 16)) * (np.arange(16) % 2)}, "mask: expected each row to be"),
     ({"mask": np.ones((3, 16))}, "lengths and mask disagree: motion 1"),
+    ({"rotations": np.full((3, 16, 24, 3), np.nan)}, "rotations: 3456 non-finite values (NaN or infinite)"),
 ]
 
 

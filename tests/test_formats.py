@@ -27,7 +27,7 @@ from jaxmotion.data.formats import (
     ntu13,
     uestc,
 )
-from jaxmotion.data.formats._common import CAMERA_TO_LIBRARY
+from jaxmotion.data.formats._common import CAMERA_TO_LIBRARY, rotate_roots
 from jaxmotion.geometry import CMU_MOCAP20, SMPL24, UESTC18, humanact12_to_library_frame
 
 # Camera frame of HumanAct12 / VIBE (y down, facing -Z) <-> library frame: a 180-degree turn about X.
@@ -469,6 +469,41 @@ def test_cmu_bad_inputs_name_file_and_field(tmp_path):
     (tmp_path / cmu_mocap.CLIPS_CSV).write_text("name,action\n01_01,Walk\n")
     with pytest.raises(ValueError, match=r"pose_clip\.csv: missing column\(s\) \['motion', 'action_type'\]"):
         load_cmu_mocap(tmp_path)
+
+
+def test_cmu_non_finite_joints_and_duplicate_motions_name_the_file(tmp_path):
+    write_cmu(tmp_path, [("01_01", "Walk", 3)])
+    clip = CMU_REST[None].repeat(3, 0)
+    clip[1, 4, 2] = np.nan
+    np.save(tmp_path / cmu_mocap.JOINTS_DIR / "01_01.npy", clip)
+    with pytest.raises(ValueError, match=r"01_01\.npy: joints: 1 non-finite values .*first at index \(1, 4, 2\)"):
+        load_cmu_mocap(tmp_path)
+    write_cmu(tmp_path, [("01_01", "Walk", 3), ("86_03", "Run", 2), ("01_01", "Walk", 3)])
+    with pytest.raises(ValueError, match=r"pose_clip\.csv: motion '01_01' is listed twice \(at row 2 and row 4\)"):
+        load_cmu_mocap(tmp_path)
+
+
+def test_humanact12poses_non_finite_poses_name_the_file_and_clip(tmp_path):
+    write_humanact12poses(tmp_path, np.random.default_rng(0))
+    data = pickle.loads((tmp_path / "humanact12poses.pkl").read_bytes())
+    data["poses"][1][2, 5] = np.inf
+    dump(tmp_path / "humanact12poses.pkl", data)
+    with pytest.raises(ValueError, match=r"humanact12poses\.pkl: poses\[1\]: 1 non-finite values"):
+        load_humanact12poses(tmp_path)
+
+
+def test_uestc_duplicate_video_names_are_an_error(tmp_path):
+    videos = [UESTC_VIDEOS[0], UESTC_VIDEOS[1], UESTC_VIDEOS[0]]
+    write_uestc(tmp_path, np.random.default_rng(2), videos)
+    with pytest.raises(ValueError, match=r"names\.txt: video 'a5_d0_p001_c1_color\.avi' is listed twice "
+                                         r"\(at line 1 and line 3\)"):
+        load_uestc(tmp_path, "train")
+
+
+def test_turning_roots_by_a_reflection_is_an_error():
+    flip = np.diag([1.0, 1.0, -1.0])
+    with pytest.raises(ValueError, match="rotate_roots: matrices .*2 of 2 matrices are not rotations.*reflection"):
+        rotate_roots(np.zeros((2, 24, 3)), np.stack([flip, flip]))
 
 
 # --- registry ------------------------------------------------------------------------------------------------

@@ -447,3 +447,18 @@ def test_euler_wrong_trailing_shape_is_rejected():
         rot.euler_to_matrix(np.zeros(4, np.float32), "ZXY")
     with pytest.raises(ValueError, match=re.escape("matrix_to_euler: expected matrix of shape [..., 3, 3], got (3,)")):
         rot.matrix_to_euler(np.zeros(3, np.float32), "ZXY")
+
+
+@pytest.mark.parametrize("matrix, kind", [
+    (np.diag([1.0, 1.0, -1.0]), "a reflection (determinant -1)"),
+    (2.0 * np.eye(3), "scaled or sheared (determinant 8"),
+    (np.diag([1.0, 1.0, 0.0]), "singular (determinant 0)"),
+    (np.full((3, 3), np.nan), "not finite"),
+])
+def test_check_rotations_names_what_is_wrong_with_the_first_bad_matrix(matrix, kind):
+    good = np.asarray(rot.axis_angle_to_matrix(jnp.array([[0.3, -1.2, 2.0], [0.0, 0.0, 0.0]])))
+    batch = np.stack([good[0], good[1], matrix, good[0]]).reshape(2, 2, 3, 3)
+    assert rot.check_rotations(good) is good
+    with pytest.raises(ValueError, match=re.escape(f"poses: 1 of 4 matrices are not rotations; the first, at "
+                                                   f"index (1, 0), is {kind}")):
+        rot.check_rotations(batch, where="poses")

@@ -159,7 +159,15 @@ def _array(value, field: str, expected: tuple, named: str) -> np.ndarray:
         raise ValueError(f"{field}: expected {named}, got {tuple(array.shape)}")
     if not np.issubdtype(array.dtype, np.number):
         raise ValueError(f"{field}: expected numbers, got dtype {array.dtype}")
+    _check_finite(array, field)
     return array
+
+
+def _check_finite(array: np.ndarray, field: str) -> None:
+    bad = ~np.isfinite(array)
+    if bad.any():
+        first = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"{field}: {int(bad.sum())} non-finite values (NaN or infinite), the first at index {first}")
 
 
 def _check_order(order: str) -> None:
@@ -292,6 +300,7 @@ def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=N
     if width not in (_SMPL_POSE, _SMPLH_POSE) or len(poses) < 1:
         raise ValueError(f"{path}: poses: expected [T, {_SMPL_POSE}] (SMPL) or [T, {_SMPLH_POSE}] (SMPL+H), "
                          f"got {poses.shape}")
+    _check_finite(poses, f"{path}: poses")
     frames = len(poses)
     trans = _array(trans, f"{path}: trans", (frames, 3), f"[T, 3] = ({frames}, 3)")
     rotations = np.zeros((frames, 24, 3), np.float32)
@@ -502,9 +511,13 @@ def _motion_rows(tokens: _Tokens, frames: int, width: int) -> np.ndarray:
         if len(values) != width:
             raise tokens.error(f"expected {width} channel values per frame, got {len(values)}", line)
         try:
-            rows.append([float(v) for v in values])
+            numbers = [float(v) for v in values]
         except ValueError:
             raise tokens.error(f"expected numbers, got {values}", line) from None
+        if not all(math.isfinite(v) for v in numbers):
+            raise tokens.error(f"expected finite numbers, got {[v for v in values if not math.isfinite(float(v))]}",
+                               line)
+        rows.append(numbers)
     if len(rows) != frames:
         raise ValueError(f"{tokens.path}: 'Frames: {frames}' but {len(rows)} frame lines follow")
     return np.asarray(rows, np.float64).reshape(frames, width)

@@ -22,18 +22,24 @@ Conventions (binding for the whole library):
 All functions are batched over any leading axes, jit-able and differentiable, and keep values and
 gradients finite at angle 0 and at pi (double-where + Taylor branches; matrix -> quaternion picks the
 best-conditioned of four candidates). The input dtype is preserved.
+
+The conversions from a matrix assume a rotation: a reflection or a scaled matrix comes out as some
+rotation without complaint. :func:`check_rotations` says whether matrices are rotations; the loaders call it
+where matrices enter, and users should before converting matrices of their own.
 """
 
 import functools
 from types import MappingProxyType
 
 import jax.numpy as jnp
+import numpy as np
 
 __all__ = [
     "EULER_ORDERS",
     "REPRESENTATIONS",
     "axis_angle_to_matrix",
     "axis_angle_to_quaternion",
+    "check_rotations",
     "euler_to_matrix",
     "from_matrix",
     "matrix_to_axis_angle",
@@ -65,6 +71,35 @@ def _checked(x, shape, fn, arg):
         dims = ", ".join(str(d) for d in shape)
         raise ValueError(f"{fn}: expected {arg} of shape [..., {dims}], got {tuple(x.shape)}")
     return x
+
+
+def check_rotations(matrices, *, where: str = "rotations", atol: float = 1e-3):
+    """``matrices [..., 3, 3]`` if every one is a rotation (finite, ``R Rᵀ = I`` and ``det R = +1`` within
+    ``atol``), else a ``ValueError`` from ``where`` saying how many are not and what the first one is (a
+    reflection, singular, scaled or sheared). Runs on concrete values (numpy), not under ``jit``."""
+    m = np.asarray(matrices, np.float64)
+    if m.shape[-2:] != (3, 3):
+        raise ValueError(f"{where}: expected rotation matrices [..., 3, 3], got {m.shape}")
+    flat = m.reshape(-1, 3, 3)
+    finite = np.isfinite(flat).all(axis=(1, 2))
+    safe = np.where(finite[:, None, None], flat, np.eye(3))
+    det = np.linalg.det(safe)
+    error = np.abs(safe @ np.swapaxes(safe, 1, 2) - np.eye(3)).max(axis=(1, 2))
+    bad = ~finite | (np.abs(det - 1) > atol) | (error > atol)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        if not finite[i]:
+            kind = "not finite (NaN or infinite entries)"
+        elif det[i] < -atol:
+            kind = f"a reflection (determinant {det[i]:.3g})"
+        elif abs(det[i]) <= atol:
+            kind = f"singular (determinant {det[i]:.3g})"
+        else:
+            kind = f"scaled or sheared (determinant {det[i]:.3g}, max |R Rᵀ - I| {error[i]:.3g})"
+        index = np.unravel_index(i, m.shape[:-2]) if m.ndim > 2 else ()
+        raise ValueError(f"{where}: {int(bad.sum())} of {len(flat)} matrices are not rotations; the first, at "
+                         f"index {tuple(int(k) for k in index)}, is {kind}")
+    return matrices
 
 
 def _safe_sqrt(sq, small):

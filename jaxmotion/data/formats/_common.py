@@ -19,7 +19,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.geometry.kinematics import forward_kinematics, humanact12_to_library_frame
-from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
+from jaxmotion.geometry.rotations import axis_angle_to_matrix, check_rotations, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import SMPL24
 
 #: ``[3, 3]`` map from the camera frame that HumanAct12, VIBE (UESTC, NTU-13) and Action2Motion's joints use
@@ -122,7 +122,23 @@ def check_array(value: object, shape: tuple[int | str, ...], *, file: Path | str
     if not ok:
         got = f"shape {array.shape} dtype {array.dtype}" if array is not None else type(value).__name__
         raise ValueError(f"{file}: {key}: expected a real numeric array of shape {expected}, got {got}")
-    return np.asarray(array, dtype=np.float64)
+    array = np.asarray(array, dtype=np.float64)
+    bad = ~np.isfinite(array)
+    if bad.any():
+        first = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"{file}: {key}: {int(bad.sum())} non-finite values (NaN or infinite), the first at "
+                         f"index {first}: {array[first]}")
+    return array
+
+
+def check_unique(names: list[str], places: list[int | str], *, file: Path | str, what: str) -> None:
+    """Each clip listed once: a name listed twice would enter a split twice (or both splits)."""
+    seen: dict[str, int | str] = {}
+    for name, place in zip(names, places):
+        if name in seen:
+            raise ValueError(f"{file}: {what} {name!r} is listed twice (at {seen[name]} and {place}); each clip "
+                             f"must be listed once")
+        seen[name] = place
 
 
 def check_label(value: object, num_classes: int, *, file: Path | str, key: str) -> int:
@@ -184,7 +200,9 @@ def rotate_roots(rotations: np.ndarray, matrices: np.ndarray) -> np.ndarray:
     """Turn each frame's global orientation: ``[F, J, 3]`` axis-angle, ``[F, 3, 3]`` M -> ``[F, J, 3]``.
 
     Joint 0's rotation R becomes ``M @ R``; the local rotations of the other joints are frame-independent.
+    ``matrices`` must be rotations (a reflection would give some other, wrong, orientation).
     """
+    check_rotations(matrices, where="rotate_roots: matrices (the turns into the library frame)")
     return _by_chunks(_turn_roots, rotations, matrices)
 
 

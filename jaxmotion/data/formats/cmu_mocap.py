@@ -31,7 +31,7 @@ import csv
 import re
 from pathlib import Path
 
-from jaxmotion.data.formats._common import check_array, check_split, read_npy, require_file
+from jaxmotion.data.formats._common import check_array, check_split, check_unique, read_npy, require_file
 from jaxmotion.data.motion import Motion, MotionDataset, pack
 from jaxmotion.geometry.skeletons import CMU_MOCAP20
 
@@ -63,6 +63,8 @@ def _read_clip_table(path: Path) -> list[tuple[int, str, str]]:
             if not all(values):
                 raise ValueError(f"{path}: row {number}: expected a motion and an action_type, got {values}")
             rows.append((number, *values))
+    check_unique([motion for _, motion, _ in rows], [f"row {number}" for number, _, _ in rows], file=path,
+                 what="motion")
     return rows
 
 

@@ -47,6 +47,7 @@ from jaxmotion.data.formats._common import (
     camera_points_to_library,
     check_array,
     check_split,
+    check_unique,
     read_lines,
     read_pickle,
     require_file,
@@ -109,6 +110,7 @@ def _read_clips(root: Path, keys: tuple[str, ...]) -> list[tuple[Path, int, int,
     """``(file, label, subject, {key: array})`` of every listed file whose track 1 has ``keys``, in list order."""
     list_path = root / LIST_FILE
     entries = read_lines(list_path, "NTU-13 file list")
+    check_unique(entries, [f"line {n}" for n in range(1, len(entries) + 1)], file=list_path, what="file")
     clips, skipped = [], []
     for line, entry in enumerate(entries, start=1):
         if not entry:

@@ -47,6 +47,7 @@ from jaxmotion.data.formats._common import (
     check_label,
     check_sequence,
     check_split,
+    check_unique,
     field,
     read_lines,
     read_pickle,
@@ -121,6 +122,7 @@ def load_uestc(root: str | Path, split: str = "train", *, min_train_frames: int 
     root = Path(root)
     names_path = root / "info" / "names.txt"
     names = read_lines(names_path, "UESTC video names")
+    check_unique(names, [f"line {n}" for n in range(1, len(names) + 1)], file=names_path, what="video")
     frame_counts = _frame_counts(root / "info" / "num_frames_min.txt", len(names))
     class_names = _class_names(root / "info" / "action_classes.txt")
     vibe_path = root / "vibe_cache_refined.pkl"
