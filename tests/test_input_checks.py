@@ -117,3 +117,14 @@ def test_an_unknown_dataset_name_from_the_command_line_fails_at_parse_time(tmp_p
     with pytest.raises(SystemExit, match="TableData.name: unknown dataset 'uestcc'"):
         actor_uestc.main(["--profile", "smoke", "--out", str(tmp_path), "--set", "table.data.name=uestcc"])
     assert not any(tmp_path.iterdir())  # nothing was started
+
+
+def test_a_table_with_a_duration_longer_than_every_clip_fails_before_anything_trains(tmp_path, monkeypatch):
+    from jaxmotion.evaluation.tables import run_table, table_dataset
+
+    monkeypatch.setenv("JAXMOTION_CACHE", str(tmp_path / "cache"))
+    table = table_dataset("HumanAct12", "smoke")
+    table = dataclasses.replace(table, protocol=dataclasses.replace(table.protocol, duration=10_000))
+    with pytest.raises(ValueError, match="protocol.duration: 10000 frames is longer than every clip"):
+        run_table({}, table, workdir=tmp_path / "run", train_key=jax.random.key(0), eval_key=jax.random.key(1))
+    assert not (tmp_path / "cache" / "recognizers").exists() and not (tmp_path / "run").exists()

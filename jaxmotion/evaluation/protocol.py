@@ -132,18 +132,22 @@ def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.
     return out
 
 
-def check_inputs(recognizer: Recognizer, real: Mapping[str, MotionDataset], config: ProtocolConfig) -> None:
-    """Refuse what would give a table of meaningless numbers: an evaluator trained on other classes than a
-    real set's, or a duration longer than every clip of a real set (every real window would be padding)."""
+def check_real_sets(real: Mapping[str, MotionDataset], config: ProtocolConfig) -> None:
+    """Refuse a duration longer than every clip of a real set: every real window would be mostly padding."""
+    for name, data in real.items():
+        longest = int(data.lengths.max()) if len(data) else 0
+        if config.duration > longest:
+            raise ValueError(f"protocol.duration: {config.duration} frames is longer than every clip of the real "
+                             f"set {name!r} ({data.name}; the longest has {longest}); choose at most {longest}")
+
+
+def check_evaluator(recognizer: Recognizer, real: Mapping[str, MotionDataset]) -> None:
+    """Refuse an evaluator trained on other classes than a real set's: its accuracy and FID would mean nothing."""
     for name, data in real.items():
         if data.num_classes != recognizer.num_classes:
             raise ValueError(f"evaluator: it recognises {recognizer.num_classes} classes, but the real set {name!r} "
                              f"({data.name}) has {data.num_classes}; score a dataset with an evaluator trained on "
                              f"its classes")
-        longest = int(data.lengths.max()) if len(data) else 0
-        if config.duration > longest:
-            raise ValueError(f"protocol.duration: {config.duration} frames is longer than every clip of the real "
-                             f"set {name!r} ({data.name}; the longest has {longest}); choose at most {longest}")
 
 
 def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer,
@@ -160,7 +164,8 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
         raise ValueError("real: expected at least one named real dataset")
     if "Real" in samplers:
         raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
-    check_inputs(recognizer, real, config)
+    check_real_sets(real, config)
+    check_evaluator(recognizer, real)
     if mesh is not None and recognizer.mesh is None:
         recognizer = dataclasses.replace(recognizer, mesh=mesh)
     canonical = recognizer.config.canonical

@@ -34,7 +34,7 @@ from jax.sharding import Mesh
 from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import PAPER_SIZES, check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, check_inputs, evaluate
+from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, check_evaluator, check_real_sets, evaluate
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
 from jaxmotion.geometry.skeletons import Skeleton
 
@@ -218,8 +218,9 @@ def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str |
     together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``mesh``: train and
     evaluate data-parallel on it (None: one device)."""
     real = real_sets(table.data, data_root)
+    check_real_sets(real, table.protocol)  # before the evaluator or any row trains
     recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)
-    check_inputs(recognizer, real, table.protocol)  # before any row trains
+    check_evaluator(recognizer, real)
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
     return paper_columns(score_rows(eval_key, samplers, real, table.evaluator, table.protocol, data_root=data_root,
                                     mesh=mesh), columns)
