@@ -45,7 +45,9 @@ cpu profile: d 64, 2 layers, 1 500 steps per row, 3 runnable rows × 2 datasets,
 1 000 motions. Estimated from step times measured on the 2-core CPU with nothing else running (see ``CPU``;
 about 1.7 times longer while another job shares it): about 20 minutes (training 15, compiling 2, evaluating
 3), plus about 6 minutes the first time, to train and cache the two evaluators (shared with the other ACTOR
-experiments).
+experiments). Measured (seed 0, evaluators cached, another job sharing the cores): 24 minutes. The five
+claims with the L_J stand-in hold (UESTC FID_test: L_R + L_J 28.7 ± 1.2, L_R 32.9 ± 0.9, L_J 25 340: it
+does not converge); the two that need L_V are not measured.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """Every ACTOR experiment runs end to end in its smoke profile."""
 
 import json
+import shutil
 
 import numpy as np
 import pytest
@@ -32,16 +33,24 @@ def cache(tmp_path_factory):
     return tmp_path_factory.mktemp("cache")
 
 
+@pytest.fixture(scope="module")
+def uestc_smoke(tmp_path_factory, cache):
+    """actor_uestc's smoke run, made once for the module: ``(seed folder, result)``."""
+    out = tmp_path_factory.mktemp("uestc-smoke")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("JAXMOTION_CACHE", str(cache))
+        result = actor_uestc.main(["--profile", "smoke", "--out", str(out)])
+    return out / "actor_uestc" / "smoke" / "seed-0", result
+
+
 @pytest.mark.slow
-def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_uestc.main(["--profile", "smoke", "--out", str(tmp_path / "out")])
+def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_smoke):
+    folder, result = uestc_smoke
     rows = result["rows"]
     assert list(rows) == ["ACTOR", "Real", "Real (reported)", "ACTOR (reported)"]
     assert list(rows["ACTOR"]) == COLUMNS
     assert rows["ACTOR"]["FID_tr"]["n"] == actor_uestc.ActorUestcConfig.smoke().table.protocol.repetitions
     assert_generations_vary(rows, "ACTOR")
-    folder = tmp_path / "out" / "actor_uestc" / "smoke" / "seed-0"
     assert (folder / "generated.gif").stat().st_size > 0
     assert json.loads((folder / "metrics.json").read_text()) == result
     assert [c["claim"] for c in result["claims"]] == [str(c) for c in actor_uestc.CLAIMS]
@@ -53,8 +62,11 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(tmp_pa
 
 
 @pytest.mark.slow
-def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, cache):
+def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, capsys, cache, uestc_smoke):
     monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
+    # the trained smoke run without its results: the same command evaluates it again, now constant
+    trained = tmp_path / "actor_uestc" / "smoke" / "seed-0"
+    shutil.copytree(uestc_smoke[0], trained, ignore=shutil.ignore_patterns("metrics.json", "table.md", "*.gif"))
     real_sampler = ActorTraining.sampler
 
     def constant(self, params, skeleton):
@@ -68,6 +80,7 @@ def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, cache)
 
     monkeypatch.setattr(ActorTraining, "sampler", constant)
     rows = actor_uestc.main(["--profile", "smoke", "--out", str(tmp_path)])["rows"]
+    assert "resuming from the checkpoint" in capsys.readouterr().err  # evaluated, not trained again
     with pytest.raises(AssertionError, match="do not vary"):
         assert_generations_vary(rows, "ACTOR")
 
