@@ -73,7 +73,7 @@ def test_generated_motions_have_their_own_lengths_and_joints_are_fk(setup):
     np.testing.assert_allclose(prefix.rotations, out.rotations[:prefix.joints.shape[0]], atol=1e-5)
     with pytest.raises(ValueError, match="durations: expected"):
         generate_motions(params, MODEL, jax.random.key(2), actions, durations[:3], SMPL24)
-    with pytest.raises(ValueError, match="actions: expected class indices"):
+    with pytest.raises(ValueError, match="actions: expected class ids in \\[0, 2\\)"):
         generate_motions(params, MODEL, jax.random.key(2), actions + 1, durations, SMPL24)
 
 
