@@ -41,8 +41,16 @@ import numpy as np
 from jaxmotion import experiment
 from jaxmotion.config import replace_paths
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, slug, table_dataset
+from jaxmotion.evaluation.protocol import ProtocolConfig, check_real_sets
+from jaxmotion.evaluation.tables import (
+    TableDataset,
+    paper_columns,
+    real_sets,
+    score_rows,
+    slug,
+    table_dataset,
+    table_evaluator,
+)
 from jaxmotion.train.actor import UESTC_EPOCH, ActorTraining, uestc_training
 from jaxmotion.viz import save_curves
 
@@ -100,6 +108,9 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
     fixed, variable = config.training, config.variable()
+    for duration in config.durations:  # every duration's real windows, before anything trains
+        check_real_sets(real, dataclasses.replace(config.table.protocol, duration=duration))
+    recognizer = table_evaluator(config.table, real, ctx.data_root)
     fixed_params = fixed.fit(train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh)
     # the fine-tune starts from the fixed run's last checkpoint (its parameters, AdamW moments and step), with
     # the same key, so the data order goes on; an interrupted fine-tune resumes from its own checkpoints
@@ -110,8 +121,7 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
     rows: dict[str, dict[str, np.ndarray]] = {}
     for duration in config.durations:
         protocol = dataclasses.replace(config.table.protocol, duration=duration)
-        scores = paper_columns(score_rows(ctx.key("eval"), samplers, real, config.table.evaluator, protocol,
-                                          data_root=ctx.data_root, mesh=ctx.mesh))
+        scores = paper_columns(score_rows(ctx.key("eval"), samplers, real, recognizer, protocol, mesh=ctx.mesh))
         for row, cells in scores.items():
             rows.setdefault(row, {}).update({f"Acc. (%) @{duration}": cells["Acc. (%)"],
                                              f"FID_tr @{duration}": cells["FID_tr"]})

@@ -28,7 +28,14 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, table_dataset
+from jaxmotion.evaluation.tables import (
+    TableDataset,
+    paper_columns,
+    real_sets,
+    score_rows,
+    table_dataset,
+    table_evaluator,
+)
 from jaxmotion.pipelines.actor import generation_grid
 from jaxmotion.train.actor import ActorTraining, uestc_training
 
@@ -61,10 +68,11 @@ class ActorUestcConfig(experiment.ProfileConfig):
 def run(config: ActorUestcConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
+    recognizer = table_evaluator(config.table, real, ctx.data_root)
     params = config.training.fit(train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
     samplers = {"ACTOR": config.training.sampler(params, train.skeleton)}
-    rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, config.table.evaluator, config.table.protocol,
-                                    data_root=ctx.data_root, mesh=ctx.mesh))
+    rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, recognizer, config.table.protocol,
+                                    mesh=ctx.mesh))
     generated = generation_grid(params, config.training.model, ctx.key("pictures"), train.skeleton,
                                 train.class_names, train.fps, min(config.picture_actions, train.num_classes),
                                 ctx.workdir / "generated.gif")

@@ -24,7 +24,6 @@ import argparse
 import contextlib
 import dataclasses
 import functools
-import json
 import sys
 import zlib
 from collections.abc import Callable, Mapping, Sequence

@@ -5,8 +5,8 @@ A **recipe** is anything with ``fit(data, key, workdir, **loop_options) -> param
 (:class:`jaxmotion.train.actor.ActorTraining`, :class:`jaxmotion.train.a2m.A2MTraining`). A table is a
 mapping of row names to recipes: :func:`fit_rows` trains every row from the same key (same data order, and
 the same initialisation where shapes agree, so rows differ only by what the table varies) in its own folder
-``<workdir>/<slug(row)>/``, where it resumes from its checkpoints; :func:`score_rows` scores the samplers
-together under the dataset's evaluator and protocol (one repetition's real draws shared by all rows).
+``<workdir>/<slug(row)>/``, where it resumes from its checkpoints; :func:`table_evaluator` readies the dataset's evaluator (checking
+it and the protocol against the data first) and :func:`score_rows` scores the samplers together with it (one repetition's real draws shared by all rows).
 
 Rows come back in the protocol's metric names (``accuracy``, ``FID_train``, ``FID_test``, ``diversity``,
 ``multimodality``); :func:`paper_columns` renames them to a paper's columns (:data:`ACTOR_COLUMNS`,
@@ -37,6 +37,7 @@ from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, check_evaluator, check_real_sets, evaluate
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.models.recognition import Recognizer
 
 
 class Recipe(Protocol):
@@ -121,12 +122,21 @@ def fit_rows(rows: Mapping[str, Recipe], data: MotionDataset, key: jax.Array, wo
             for (name, recipe), folder in zip(rows.items(), folders)}
 
 
+def table_evaluator(table: TableDataset, real: Mapping[str, MotionDataset], data_root: str | None = None) -> Recognizer:
+    """The table's evaluator, trained or read from its cache, after checking what would make the table
+    meaningless: the protocol's duration against the real sets (before the evaluator trains) and the
+    evaluator's classes against theirs. Call it before training the rows, so a bad table fails first."""
+    check_real_sets(real, table.protocol)
+    recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)
+    check_evaluator(recognizer, real)
+    return recognizer
+
+
 def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[str, MotionDataset],
-               evaluator: RecognizerTraining, protocol: ProtocolConfig, *, data_root: str | None = None,
-               mesh: Mesh | None = None) -> dict[str, dict[str, list[float]]]:
-    """Score ``samplers`` with the ``evaluator`` under ``protocol`` (generation and recogniser passes sharded
-    on ``mesh`` when given); rows in the protocol's metric names, the Real row last."""
-    recognizer, _ = trained_recognizer(evaluator, data_root=data_root)
+               recognizer: Recognizer, protocol: ProtocolConfig, *, mesh: Mesh | None = None
+               ) -> dict[str, dict[str, list[float]]]:
+    """Score ``samplers`` with ``recognizer`` (:func:`table_evaluator`) under ``protocol`` (generation and
+    recogniser passes sharded on ``mesh`` when given); rows in the protocol's metric names, the Real row last."""
     rows = evaluate(key, samplers, recognizer, real, protocol, mesh=mesh)
     return {**{name: rows[name] for name in samplers}, "Real": rows["Real"]}
 
@@ -218,12 +228,9 @@ def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str |
     together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``mesh``: train and
     evaluate data-parallel on it (None: one device)."""
     real = real_sets(table.data, data_root)
-    check_real_sets(real, table.protocol)  # before the evaluator or any row trains
-    recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)
-    check_evaluator(recognizer, real)
+    recognizer = table_evaluator(table, real, data_root)  # before any row trains
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
-    return paper_columns(score_rows(eval_key, samplers, real, table.evaluator, table.protocol, data_root=data_root,
-                                    mesh=mesh), columns)
+    return paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh), columns)
 
 
 def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Recipe]], *,
