@@ -17,8 +17,10 @@ from jaxmotion.nn.core import (
     init_batch_norm,
     init_layer_norm,
     init_linear,
+    init_prelu,
     layer_norm,
     linear,
+    prelu,
     torch_uniform,
 )
 from jaxmotion.nn.recurrent import init_gru
@@ -202,3 +204,16 @@ def test_dropout_bits_behave_like_independent_fair_coins():
     for a, b in ((keep[1:], keep[:-1]), (keep, other >= np.uint32(round(0.1 * 2**32)))):
         assert abs((a == b).mean() - 0.82) < 5 * np.sqrt(0.82 * 0.18 / n)
     np.testing.assert_array_equal(bits, np.asarray(dropout_bits(jax.random.key(3), (4, n // 4))).ravel())
+
+
+# ------------------------------------------------------------------------------------------------- PReLU
+
+
+def test_prelu_scales_negative_inputs_by_its_slope_only():
+    x = jnp.array([[-2.0, -0.5, 0.0, 1.5]])
+    np.testing.assert_allclose(prelu(init_prelu(), x), [[-0.5, -0.125, 0.0, 1.5]])
+    per_channel = init_prelu(4)._replace(weight=jnp.array([0.0, 1.0, 2.0, 3.0]))
+    np.testing.assert_allclose(prelu(per_channel, x), [[0.0, -0.5, 0.0, 1.5]])
+    # the slope's gradient is the sum of the negative inputs
+    grad = jax.grad(lambda p: prelu(p, x).sum())(init_prelu())
+    np.testing.assert_allclose(grad.weight, [-2.5])

@@ -77,7 +77,7 @@ import optax
 
 from jaxmotion.data.labels import check_actions
 from jaxmotion.nn.core import LinearParams, init_linear, linear
-from jaxmotion.nn.recurrent import GRUParams, gru_cell, init_gru
+from jaxmotion.nn.recurrent import GRUParams, gru_stack_step, init_gru
 
 # ------------------------------------------------------------------------------------------------- configs
 
@@ -204,22 +204,13 @@ def gaussian_kl(mu1: jax.Array, logvar1: jax.Array, mu2: jax.Array, logvar2: jax
             - 0.5)
 
 
-def _stack_step(cells: tuple[GRUParams, ...], hs: tuple[jax.Array, ...], x: jax.Array):
-    """Stacked GRU cells: each cell's new state is the next cell's input. Returns (new states, top state)."""
-    new = []
-    for cell, h in zip(cells, hs):
-        x = gru_cell(cell, h, x)
-        new.append(x)
-    return tuple(new), x
-
-
 def _gaussian_step(p: A2MGaussianGRUParams, hs, x):
-    hs, top = _stack_step(p.gru, hs, linear(p.embed, x))
+    hs, top = gru_stack_step(p.gru, hs, linear(p.embed, x))
     return hs, linear(p.mu_net, top), linear(p.logvar_net, top)
 
 
 def _decoder_step(p: A2MDecoderParams, hs, x):
-    hs, top = _stack_step(p.gru, hs, linear(p.embed, x))
+    hs, top = gru_stack_step(p.gru, hs, linear(p.embed, x))
     return hs, linear(p.output, top)
 
 

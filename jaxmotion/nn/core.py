@@ -1,6 +1,6 @@
 """Primitives every layer of :mod:`jaxmotion.nn` and every model builds on: PyTorch's default
-initialisation, ``Linear``, ``LayerNorm``, ``BatchNorm`` and dropout, as pure functions over NamedTuple
-parameter pytrees.
+initialisation, ``Linear``, ``PReLU``, ``LayerNorm``, ``BatchNorm`` and dropout, as pure functions over
+NamedTuple parameter pytrees.
 
 Parameters mirror PyTorch: field names are its state-dict names (``weight``, ``bias``, ``running_mean``,
 ``running_var``) and shapes are its shapes (``Linear.weight`` is ``[out, in]``), so released weights load
@@ -8,6 +8,9 @@ without reshuffling. Everything is jittable; sizes, rates and modes are Python v
 
 Choices:
 
+* **PReLU** is ``torch.nn.PReLU``: ``max(0, x) + a · min(0, x)`` with ``a`` learned, one value (the
+  default) or one per channel, starting at 0.25. The channel axis is the last one (PyTorch's is axis 1;
+  the two agree for the ``[B, C]`` inputs the models give it).
 * **Initialisation** is PyTorch's default for ``Linear`` and ``Conv``: weights (``kaiming_uniform(a=√5)``)
   and biases alike U(±1/√fan_in) (:func:`torch_uniform`), with ``fan_in`` the inputs of one output
   (``in`` for a ``Linear``, ``in · kernel size`` for a conv, the hidden size for a GRU). Norms start at
@@ -54,6 +57,23 @@ def init_linear(key: jax.Array, in_dim: int, out_dim: int) -> LinearParams:
 def linear(p: LinearParams, x: jax.Array) -> jax.Array:
     """``x [..., in]`` -> ``[..., out]``."""
     return x @ p.weight.T + p.bias
+
+
+# ------------------------------------------------------------------------------------------------ PReLU
+
+
+class PReLUParams(NamedTuple):
+    weight: jax.Array  # [1] or [C]: the slope of negative inputs
+
+
+def init_prelu(channels: int = 1, init: float = 0.25) -> PReLUParams:
+    """``torch.nn.PReLU(channels, init)``: slopes ``[channels]`` at ``init``."""
+    return PReLUParams(jnp.full((channels,), init, jnp.float32))
+
+
+def prelu(p: PReLUParams, x: jax.Array) -> jax.Array:
+    """``x [..., C]`` (any trailing size when the slope is shared) -> same shape."""
+    return jnp.where(x >= 0, x, p.weight * x)
 
 
 # ----------------------------------------------------------------------------------------------- norms
