@@ -227,19 +227,81 @@ def _gather(tables: dict, ids: jax.Array, key: jax.Array, spec: BatchSpec, hips:
     return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
 
 
-def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Callable[[int], dict[str, jax.Array]]:
+@dataclasses.dataclass(frozen=True)
+class PairSpec:
+    """Batches of pairs (ODMO's contrastive training): ``batch`` draws the first windows, and each gets a
+    partner, with probability ``same_probability`` another sequence of its class (uniform, never itself;
+    itself only when its class has no other), else a sequence of another class, drawn ``other``:
+    ``uniform`` (every other-class sequence alike: ODMO on HumanAct12 and UESTC) or ``balanced`` (every other
+    class alike: ODMO on CMU MoCap)."""
+
+    batch: BatchSpec
+    other: Literal["uniform", "balanced"] = "uniform"
+    same_probability: float = 0.5
+
+    def __post_init__(self):
+        if self.other not in ("uniform", "balanced"):
+            raise ValueError(f"PairSpec.other: expected 'uniform' or 'balanced', got {self.other!r}")
+        if not 0.0 <= self.same_probability <= 1.0:
+            raise ValueError(f"PairSpec.same_probability: expected a probability in [0, 1], got {self.same_probability!r}")
+
+
+def class_members(actions: np.ndarray, num_classes: int) -> dict[str, jax.Array]:
+    """What drawing a partner needs: ``members [C, M]`` (each class's sequence indices, padded with -1),
+    ``counts [C]`` and ``rank [N]`` (each sequence's position among its class's members)."""
+    actions = np.asarray(actions)
+    counts = np.bincount(actions, minlength=num_classes)
+    members = np.full((num_classes, max(int(counts.max()), 1)), -1, np.int32)
+    rank = np.zeros(len(actions), np.int32)
+    for c in range(num_classes):
+        ids = np.flatnonzero(actions == c)
+        members[c, :ids.size] = ids
+        rank[ids] = np.arange(ids.size)
+    return {"members": jnp.asarray(members), "counts": jnp.asarray(counts, jnp.int32), "rank": jnp.asarray(rank),
+            "actions": jnp.asarray(actions, jnp.int32)}
+
+
+def draw_partners(key: jax.Array, ids: jax.Array, table: dict[str, jax.Array], other: str,
+                  same_probability: float) -> tuple[jax.Array, jax.Array]:
+    """A partner for each sequence ``ids [B]`` (see :class:`PairSpec`; ``table`` from :func:`class_members`)
+    -> ``(partners [B], same [B])``, ``same`` True where the partner shares the class."""
+    k_same, k_within, k_class, k_member = jax.random.split(key, 4)
+    classes, counts = table["actions"][ids], table["counts"]
+    n = counts[classes]
+    # another member of the class: a position among the n − 1 others, skipping the sequence's own
+    pick = jax.random.randint(k_within, ids.shape, 0, jnp.maximum(n - 1, 1))
+    pick = jnp.where(n > 1, pick + (pick >= table["rank"][ids]), table["rank"][ids])
+    same_partner = table["members"][classes, pick]
+    # another class (by its share of the sequences, or all alike), then a member of it
+    present = counts > 0
+    weight = jnp.where(present, counts.astype(jnp.float32) if other == "uniform" else 1.0, 0.0)
+    logits = jnp.log(jnp.where(jnp.arange(counts.shape[0])[None] == classes[:, None], 0.0, weight[None]))
+    other_class = jax.random.categorical(k_class, logits)
+    member = jax.random.randint(k_member, ids.shape, 0, jnp.maximum(counts[other_class], 1))
+    other_partner = table["members"][other_class, member]
+    has_other = jnp.sum(present) > 1
+    same = jax.random.bernoulli(k_same, same_probability, ids.shape) | ~has_other
+    return jnp.where(same, same_partner, other_partner), same
+
+
+def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | PairSpec
+                  ) -> Callable[[int], dict[str, jax.Array]]:
     """``step -> batch`` with static shapes, deterministic in ``(key, step)``; the dataset moves to device once.
 
     The batch is a dict: ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]``
     (when the dataset has them), ``mask [B, T]`` (real frames; padding repeats the segment's last frame or
     snakes, per ``spec.padding``), ``lengths [B]`` (real frames per window), ``actions``, ``modes``,
-    ``subjects`` ``[B]``.
+    ``subjects`` ``[B]``. With a :class:`PairSpec`: ``{"first": batch, "second": batch, "same": [B]}``,
+    the partners' windows drawn like the first ones'.
     """
+    pairs = spec if isinstance(spec, PairSpec) else None
+    spec = pairs.batch if pairs is not None else spec
     if spec.sampling == "epoch" and spec.batch_size > len(dataset):
         raise ValueError(f"batch_size ({spec.batch_size}) exceeds the {len(dataset)} sequences of "
                          f"{dataset.name}/{dataset.split}; use sampling='uniform' (with replacement)")
     tables = _tables(dataset, spec)
     hips = tables.pop("hips")
+    members = class_members(dataset.actions, dataset.num_classes) if pairs is not None else None
     order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
     epoch_order = EpochOrder(order_key, len(dataset), spec.batch_size) if spec.sampling == "epoch" else None
 
@@ -247,11 +309,20 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec) -> Ca
     def draw_ids(weights, step):
         return sample_sequences(jax.random.fold_in(step_key, step), weights, spec.batch_size)
 
+    @jax.jit
+    def partners(table, ids, key):
+        return draw_partners(key, ids, table, pairs.other, pairs.same_probability)
+
     def batch(step):
         # ids and windows use independent keys folded from the step key
-        ids = epoch_order(step) if epoch_order is not None else draw_ids(tables["weights"], step)
-        window_key = jax.random.fold_in(jax.random.fold_in(step_key, step), 1)
-        return _gather(tables, jnp.asarray(ids), window_key, spec, hips)
+        ids = jnp.asarray(epoch_order(step) if epoch_order is not None else draw_ids(tables["weights"], step))
+        step_stream = jax.random.fold_in(step_key, step)
+        first = _gather(tables, ids, jax.random.fold_in(step_stream, 1), spec, hips)
+        if pairs is None:
+            return first
+        k_pick, k_windows = jax.random.split(jax.random.fold_in(step_stream, 2))
+        second, same = partners(members, ids, k_pick)
+        return {"first": first, "second": _gather(tables, second, k_windows, spec, hips), "same": same}
 
     return batch
 

@@ -3,8 +3,9 @@
 What the trainers used to repeat, said once: the key splits into the initialisation key, the data-order
 key and the loop's per-step key (in that order, so a trainer's results do not depend on how it was
 written); batches come from :func:`jaxmotion.data.pipeline.make_batch_fn` with the trainer's
-:class:`~jaxmotion.data.pipeline.BatchSpec`; the loop runs with the trainer's
-:class:`~jaxmotion.train.loop.LoopConfig`, resuming from ``workdir``'s checkpoints.
+:class:`~jaxmotion.data.pipeline.BatchSpec` (a :class:`~jaxmotion.data.pipeline.PairSpec` for batches of
+pairs); the loop runs with the trainer's :class:`~jaxmotion.train.loop.LoopConfig`, resuming from
+``workdir``'s checkpoints.
 
 A trainer is then its config (which embeds a ``LoopConfig``), a function building the initial state from
 a key, and a step function::
@@ -22,12 +23,12 @@ from typing import Any
 import jax
 
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.pipeline import BatchSpec, make_batch_fn
+from jaxmotion.data.pipeline import BatchSpec, PairSpec, make_batch_fn
 from jaxmotion.train.loop import LoopConfig, StepFn, train
 
 
 def fit(data: MotionDataset, key: jax.Array, *, init_state: Callable[[jax.Array], Any], step_fn: StepFn,
-        batch: BatchSpec, loop: LoopConfig, workdir: str | Path | None = None, progress: bool = True,
+        batch: BatchSpec | PairSpec, loop: LoopConfig, workdir: str | Path | None = None, progress: bool = True,
         **loop_options: Any) -> Any:
     """Train ``init_state(k_init)`` with ``step_fn`` on batches of ``data``; return the final state.
 

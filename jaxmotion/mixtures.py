@@ -1,0 +1,647 @@
+"""Keyed clustering in pure JAX: k-means++ seeding, Lloyd's k-means, full-covariance Gaussian-mixture EM,
+the silhouette score and ODMO's adaptive choice of the number of modes.
+
+Every kernel is written for one problem ``x [N, D]`` with a validity ``mask [N]`` and is jittable and
+vmappable, so many independent problems (all classes of a dataset, each padded to the same N) fit in one
+call: :func:`discover_modes_batched` fits every class's mixtures for one K in a single jitted, vmapped
+computation. K is static (a Python int); iteration counts, tolerances and the covariance floor are traced.
+Iterations are ``lax.while_loop`` s with a convergence flag: under ``vmap`` the loop runs until the last
+problem converges and a converged problem's state is held fixed, so each problem gets the iterations it
+would get alone.
+
+The algorithms are scikit-learn's (``KMeans``, ``GaussianMixture(covariance_type="full")``,
+``metrics.silhouette_score``), which the ODMO authors call:
+
+* **k-means++** is sklearn's greedy variant: each new center is the best, by the resulting inertia, of
+  ``2 + ⌊ln K⌋`` candidates drawn with probability ∝ squared distance to the nearest chosen center. Draws
+  are inverse-CDF look-ups of uniforms in the cumulative weights, as sklearn's, which makes them blind to
+  masked rows (padding moves no draw).
+* **Lloyd** iterations as sklearn's: stop when no label changes or when the squared center shift summed
+  over centers is ``≤ tol · mean_d var(x_d)`` (``tol`` is relative to the mean per-feature variance of
+  the valid samples); an empty cluster takes the valid sample farthest from its center, as sklearn
+  relocates. Labels are those of the final centers. Distances are computed on the data centred on its
+  mean (sklearn centres too), which keeps float32 cancellation in ``|x|² − 2x·c + |c|²`` small.
+* **EM** as sklearn's: ``nk = Σ resp + 10·eps``, ``reg_covar`` added to each covariance's diagonal in the
+  M-step, Cholesky factors of the covariances and their inverses by triangular solves (log-determinants
+  from the factors), log-sum-exp responsibilities. Iteration i runs an E-step (its mean log-likelihood is
+  the lower bound) then an M-step, and stops once ``|Δ lower bound| < tol``; so, as sklearn's
+  ``lower_bound_``, the returned lower bound is that of the parameters one M-step before the returned
+  ones. ``init="kmeans"`` starts from the M-step of a k-means fit's one-hot labels (sklearn's default),
+  ``"random"`` from uniform random responsibilities normalised per sample.
+* **Restarts** (``n_init``) are vmapped; restart i draws from ``fold_in(key, i)``, so the restarts of
+  ``n_init = m`` are the first m of any larger ``n_init`` and the best result can only improve with it.
+  k-means keeps the lowest inertia, EM the highest lower bound (the first on ties, as sklearn).
+* **Silhouette**: Euclidean; the mean intra-cluster distance excludes the sample itself, a sample alone in
+  its cluster scores 0, as does one with both distances 0, and empty clusters are left out of the
+  nearest-other-cluster minimum (sklearn re-encodes labels, so unused labels never count).
+
+Where these differ from sklearn:
+
+* Random draws come from JAX keys, so results match sklearn's in distribution, not number for number;
+  from the same starting parameters (:func:`gmm_em`) the two agree to float32 rounding.
+* Values cannot raise inside ``jit``: a restart whose Cholesky fails (NaN) loses to every finite one, and
+  a silhouette over fewer than 2 or more than ``n_valid − 1`` non-empty clusters (where sklearn raises) or
+  with a valid label outside ``[0, K)`` is NaN. Checks that need values (fewer valid samples than K) run
+  on the host when the mask is concrete, i.e. outside ``jit`` and ``vmap``.
+* Masked samples (``mask`` False) carry no weight anywhere: not in seeding, centers, means, covariances,
+  weights, lower bounds or silhouettes; their rows may hold anything (NaN included) and their labels are
+  -1. ``init="random"`` draws one uniform per row, padding included, so only the k-means init is blind to
+  padding.
+
+ODMO's number of modes (:func:`choose_k`; FACTS §7, code vs paper) from the silhouettes ``S_k`` of GMMs
+(k-means init, ``n_init`` 5) over the class's latent codes:
+
+* ``rule="code"`` (default; ODMO's ``sample_code_multimodal``): k = 3..9, stop at the first k with
+  ``S_k < 0.95 · S_{k−1}`` and use k − 1; 9 when nothing breaks.
+* ``rule="paper"`` (supplement, Sec. 2.2): k = 3..11, the first i with ``S_i > 0.95 · S_{i+1}``; 11 when
+  none.
+
+Dropping small components before sampling (ODMO: ≤ 10 codes in the code, < 10 in the paper) is the
+caller's: give them a count of 0 in :func:`sample_components`.
+
+Axes: N samples, D features, K components, C independent problems (classes), R restarts.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import operator
+from collections.abc import Mapping, Sequence
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+_HIGHEST = jax.lax.Precision.HIGHEST
+
+MODE_KS = {"code": range(3, 10), "paper": range(3, 12)}
+"""The k each of ODMO's rules tries."""
+
+_RATIO = 0.95  # ODMO's silhouette ratio, in both rules
+
+
+class KMeans(NamedTuple):
+    centers: jax.Array  # [K, D]
+    labels: jax.Array  # [N] int32, -1 where masked
+    inertia: jax.Array  # [] sum of squared distances of valid samples to their centers
+    n_iter: jax.Array  # [] int32 Lloyd iterations run
+
+
+class GaussianMixture(NamedTuple):
+    weights: jax.Array  # [K]
+    means: jax.Array  # [K, D]
+    covariances: jax.Array  # [K, D, D]
+    lower_bound: jax.Array | float = float("nan")  # [] mean log-likelihood per valid sample (sklearn's)
+    converged: jax.Array | bool = False  # []
+    n_iter: jax.Array | int = 0  # [] EM iterations run
+
+
+class Modes(NamedTuple):
+    """One problem's modes: the chosen K, the mixture fitted with it, its labels, every ``S_k``."""
+
+    k: int
+    gmm: GaussianMixture  # K = k components
+    labels: jax.Array  # [N] int32, -1 where masked
+    silhouettes: dict[int, float]
+
+
+class ModesBatch(NamedTuple):
+    """C problems' modes; ``gmm`` is padded to ``max(ks)`` components (weight 0, mean 0, identity
+    covariance), which every function over a mixture treats as absent."""
+
+    k: np.ndarray  # [C] int
+    gmm: GaussianMixture  # weights [C, K], means [C, K, D], covariances [C, K, D, D], the rest [C]
+    labels: jax.Array  # [C, N] int32, -1 where masked
+    silhouettes: np.ndarray  # [C, len(ks)]
+    ks: tuple[int, ...]
+
+
+# ------------------------------------------------------------------------------------------------ checks
+
+
+def _has_value(a) -> bool:
+    """False for a traced value (inside ``jit`` or ``vmap``), where checks on values cannot run."""
+    return not isinstance(a, jax.core.Tracer)
+
+
+def _check_k(k: int) -> int:
+    try:
+        k = operator.index(k)
+    except TypeError:
+        raise ValueError(f"k: expected a Python int (static), got {k!r}") from None
+    if k < 1:
+        raise ValueError(f"k: expected at least 1 component, got {k}")
+    return k
+
+
+def _check_data(x: jax.Array, mask: jax.Array | None, k: int | None = None) -> tuple[jax.Array, jax.Array]:
+    """``x [N, D]`` as float (masked rows zeroed) and ``mask [N]`` bool (all True when None)."""
+    x = jnp.asarray(x)
+    if x.ndim != 2:
+        raise ValueError(f"x: expected [N, D], got {tuple(x.shape)}")
+    x = x.astype(jnp.promote_types(x.dtype, jnp.float32))
+    n = x.shape[0]
+    if mask is None:
+        mask = jnp.ones((n,), bool)
+    else:
+        mask = jnp.asarray(mask)
+        if mask.shape != (n,) or mask.dtype != bool:
+            raise ValueError(f"mask: expected bool [N] = ({n},), got {mask.dtype} {tuple(mask.shape)}")
+    if k is not None:
+        if k > n:
+            raise ValueError(f"k: {k} components but x has only N = {n} samples")
+        if _has_value(mask) and (n_valid := int(mask.sum())) < k:
+            raise ValueError(f"mask: {n_valid} valid samples, fewer than k = {k}")
+    return jnp.where(mask[:, None], x, 0.0), mask
+
+
+def _check_mixture(weights, means, covariances) -> tuple[jax.Array, jax.Array, jax.Array]:
+    means = jnp.asarray(means)
+    if means.ndim != 2:
+        raise ValueError(f"means: expected [K, D], got {tuple(means.shape)}")
+    k, d = means.shape
+    weights, covariances = jnp.asarray(weights), jnp.asarray(covariances)
+    if weights.shape != (k,):
+        raise ValueError(f"weights: expected [K] = ({k},), got {tuple(weights.shape)}")
+    if covariances.shape != (k, d, d):
+        raise ValueError(f"covariances: expected [K, D, D] = ({k}, {d}, {d}), got {tuple(covariances.shape)}")
+    dtype = jnp.promote_types(means.dtype, jnp.float32)
+    return weights.astype(dtype), means.astype(dtype), covariances.astype(dtype)
+
+
+def _check_features(x: jax.Array, gmm: GaussianMixture) -> jax.Array:
+    x = jnp.asarray(x)
+    d = gmm.means.shape[-1]
+    if x.ndim != 2 or x.shape[1] != d:
+        raise ValueError(f"x: expected [N, D] = [N, {d}], got {tuple(x.shape)}")
+    return x.astype(jnp.promote_types(x.dtype, jnp.float32))
+
+
+# --------------------------------------------------------------------------------------------- k-means
+
+
+def _weighted_choice(u: jax.Array, weights: jax.Array) -> jax.Array:
+    """Indices drawn with probability ∝ ``weights [N]`` (≥ 0, not all 0) for uniforms ``u [...]`` in
+    [0, 1), by inverse CDF as sklearn.
+
+    ``1 − u ∈ (0, 1]`` times the total lands strictly above a zero-weight row's cumulative step, so a row
+    of weight 0 is never drawn, wherever it sits.
+    """
+    cumulative = jnp.cumsum(weights)
+    targets = (1.0 - u) * cumulative[-1]
+    return jnp.minimum(jnp.searchsorted(cumulative, targets, method="compare_all"), weights.shape[0] - 1)
+
+
+def _plusplus(key: jax.Array, x: jax.Array, w: jax.Array, k: int) -> jax.Array:
+    """Greedy k-means++ seeds of ``x [N, D]`` with sample weights ``w [N]`` -> ``[K, D]``."""
+    n_trials = 2 + int(math.log(k))
+    # One draw for all centers: u[0, 0] picks the first, u[c] the candidates of center c.
+    u = jax.random.uniform(key, (k, n_trials), x.dtype)
+    first = x[_weighted_choice(u[0, 0], w)]
+    closest = jnp.sum((x - first) ** 2, axis=-1)
+
+    def add_center(c, carry):
+        centers, closest = carry
+        # All valid samples already on a center (duplicates): any valid sample will do.
+        p = jnp.where(closest @ w > 0, w * closest, w)
+        candidates = x[_weighted_choice(u[c], p)]  # [T, D]
+        dist = jnp.minimum(closest, jnp.sum((candidates[:, None] - x[None]) ** 2, axis=-1))  # [T, N]
+        best = jnp.argmin(dist @ w)
+        return centers.at[c].set(candidates[best]), dist[best]
+
+    centers = jnp.zeros((k, x.shape[1]), x.dtype).at[0].set(first)
+    return jax.lax.fori_loop(1, k, add_center, (centers, closest))[0]
+
+
+def kmeans_plusplus(key: jax.Array, x: jax.Array, k: int, mask: jax.Array | None = None) -> jax.Array:
+    """k-means++ seeds ``[K, D]`` of ``x [N, D]``: sklearn's greedy variant (best of ``2 + ⌊ln K⌋``
+    candidates per center by the inertia it leaves), drawn only from valid rows of ``mask [N]``."""
+    k = _check_k(k)
+    x, mask = _check_data(x, mask, k)
+    return _plusplus(key, x, mask.astype(x.dtype), k)
+
+
+def _assign(x: jax.Array, centers: jax.Array) -> jax.Array:
+    """Nearest center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
+    scores = jnp.sum(centers**2, axis=-1) - 2.0 * jnp.matmul(x, centers.T, precision=_HIGHEST)
+    return jnp.argmin(scores, axis=-1).astype(jnp.int32)
+
+
+def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array) -> jax.Array:
+    """Lloyd's center update with sklearn's relocation of empty clusters -> new centers ``[K, D]``."""
+    k = centers.shape[0]
+    onehot = jax.nn.one_hot(labels, k, dtype=x.dtype) * w[:, None]
+    mass, sums = onehot.sum(axis=0), jnp.matmul(onehot.T, x, precision=_HIGHEST)
+    # The j-th empty cluster takes the j-th valid sample farthest from its own center, which leaves its
+    # cluster (sklearn's _relocate_empty_clusters_dense).
+    empty = mass == 0
+    spread = jnp.where(w > 0, jnp.sum((x - centers[labels]) ** 2, axis=-1), -1.0)
+    donors = jax.lax.top_k(spread, k)[1][jnp.cumsum(empty) - 1]  # [K], meaningful where empty
+    moved = jnp.where(empty, w[donors], 0.0)
+    sums = sums.at[labels[donors]].add(-x[donors] * moved[:, None])
+    mass = mass.at[labels[donors]].add(-moved)
+    sums = jnp.where(empty[:, None], x[donors] * moved[:, None], sums)
+    mass = jnp.where(empty, moved, mass)
+    # A cluster left with no weight keeps its (zero) sum as center, as sklearn's _average_centers.
+    return jnp.where(mass[:, None] > 0, sums / jnp.where(mass > 0, mass, 1.0)[:, None], sums)
+
+
+def _lloyd(key, x, w, k, max_iter, tol) -> KMeans:
+    """One k-means restart on centred ``x [N, D]``, weights ``w [N]``; ``tol`` absolute (center shift²)."""
+
+    def step(state):
+        centers, labels_old, it, _ = state
+        labels = _assign(x, centers)
+        new = _update_centers(x, w, centers, labels)
+        unchanged = jnp.all((labels == labels_old) | (w == 0))
+        return new, labels, it + 1, unchanged | (jnp.sum((new - centers) ** 2) <= tol)
+
+    state = (_plusplus(key, x, w, k), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0), jnp.bool_(False))
+    centers, _, n_iter, _ = jax.lax.while_loop(lambda s: ~s[3] & (s[2] < max_iter), step, state)
+    labels = _assign(x, centers)
+    inertia = jnp.sum(w * jnp.sum((x - centers[labels]) ** 2, axis=-1))
+    return KMeans(centers, jnp.where(w > 0, labels, -1), inertia, n_iter)
+
+
+def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = None, n_init: int = 1,
+           max_iter: int = 300, tol: float = 1e-4) -> KMeans:
+    """Lloyd's k-means of ``x [N, D]`` from k-means++ seeds, best of ``n_init`` (static) restarts.
+
+    Args:
+      key: PRNG key; restart i uses ``fold_in(key, i)``.
+      x: ``[N, D]`` samples.
+      k: static number of clusters K.
+      mask: ``[N]`` bool, True for the samples to cluster (default all).
+      n_init: static number of restarts; the lowest inertia wins.
+      max_iter: most Lloyd iterations per restart.
+      tol: sklearn's relative tolerance: a restart stops when no label changes or the squared center
+        shift summed over centers is ``≤ tol · mean_d var(x_d)`` over the valid samples.
+
+    Returns ``KMeans(centers [K, D], labels [N] (-1 where masked), inertia [], n_iter [])``.
+    """
+    k = _check_k(k)
+    x, mask = _check_data(x, mask, k)
+    w = mask.astype(x.dtype)
+    mean = (w @ x) / w.sum()
+    centred = (x - mean) * w[:, None]
+    tol_abs = tol * jnp.mean((w @ centred**2) / w.sum())
+    fits = jax.vmap(lambda i: _lloyd(jax.random.fold_in(key, i), centred, w, k, max_iter, tol_abs))(
+        jnp.arange(n_init)
+    )
+    best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
+    return best._replace(centers=best.centers + mean)
+
+
+# ---------------------------------------------------------------------------------- Gaussian mixtures
+
+
+def _precision_cholesky(covariances: jax.Array) -> jax.Array:
+    """``[K, D, D]`` covariances -> ``L⁻ᵀ`` (upper, ``P Pᵀ = Σ⁻¹``) from their Cholesky factors ``L``."""
+    chol = jnp.linalg.cholesky(covariances)
+    eye = jnp.broadcast_to(jnp.eye(covariances.shape[-1], dtype=covariances.dtype), covariances.shape)
+    return jnp.swapaxes(jax.lax.linalg.triangular_solve(chol, eye, left_side=True, lower=True), -1, -2)
+
+
+def _log_gaussians(x: jax.Array, means: jax.Array, prec_chol: jax.Array) -> jax.Array:
+    """``log N(x_n | μ_k, Σ_k)`` -> ``[N, K]`` for ``x [N, D]``, ``means [K, D]``, ``prec_chol [K, D, D]``."""
+    d = x.shape[-1]
+    y = jnp.einsum("knd,kde->kne", x[None] - means[:, None], prec_chol, precision=_HIGHEST)
+    log_det = jnp.sum(jnp.log(jnp.diagonal(prec_chol, axis1=-2, axis2=-1)), axis=-1)  # = −½ log|Σ|
+    return (-0.5 * (d * math.log(2.0 * math.pi) + jnp.sum(y**2, axis=-1)) + log_det[:, None]).T
+
+
+def _weighted_log_prob(weights, means, prec_chol, x) -> jax.Array:
+    return _log_gaussians(x, means, prec_chol) + jnp.log(weights)
+
+
+def _m_step(x: jax.Array, resp: jax.Array, reg_covar) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """sklearn's M-step from responsibilities ``resp [N, K]`` (0 on masked rows) -> weights, means,
+    covariances (with ``reg_covar`` on the diagonal)."""
+    nk = resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps
+    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / nk[:, None]
+    diff = x[None] - means[:, None]  # [K, N, D]
+    cov = jnp.einsum("nk,knd,kne->kde", resp, diff, diff, precision=_HIGHEST) / nk[:, None, None]
+    cov = cov + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
+    return nk / nk.sum(), means, cov
+
+
+def _em(x, mask, weights, means, covariances, max_iter, tol, reg_covar) -> GaussianMixture:
+    w = mask.astype(x.dtype)
+    n_valid = w.sum()
+
+    def step(state):
+        weights, means, _, prec_chol, lower_bound, it, _ = state
+        log_prob = _weighted_log_prob(weights, means, prec_chol, x)
+        norm = jax.nn.logsumexp(log_prob, axis=-1)
+        new_bound = (w @ norm) / n_valid
+        weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar)
+        converged = jnp.abs(new_bound - lower_bound) < tol
+        return weights, means, cov, _precision_cholesky(cov), new_bound, it + 1, converged
+
+    state = (weights, means, covariances, _precision_cholesky(covariances), jnp.array(-jnp.inf, x.dtype),
+             jnp.int32(0), jnp.bool_(False))
+    weights, means, cov, _, bound, n_iter, converged = jax.lax.while_loop(
+        lambda s: ~s[6] & (s[5] < max_iter), step, state
+    )
+    return GaussianMixture(weights, means, cov, bound, converged, n_iter)
+
+
+def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.Array, *,
+           mask: jax.Array | None = None, max_iter: int = 100, tol: float = 1e-3,
+           reg_covar: float = 1e-6) -> GaussianMixture:
+    """EM for a full-covariance Gaussian mixture from given parameters (sklearn's ``weights_init``,
+    ``means_init``, ``precisions_init = Σ⁻¹``).
+
+    Args:
+      x: ``[N, D]`` samples; mask: ``[N]`` bool, True for the samples to fit (default all).
+      weights, means, covariances: ``[K]``, ``[K, D]``, ``[K, D, D]`` starting parameters, used as given
+        (``reg_covar`` enters from the first M-step on, as in sklearn).
+      max_iter: most EM iterations; tol: stop once ``|Δ lower bound| < tol``.
+      reg_covar: added to the diagonal of every estimated covariance.
+
+    Returns the fitted :class:`GaussianMixture`; its ``lower_bound`` is the mean log-likelihood of the
+    parameters one M-step before the returned ones (sklearn's ``lower_bound_``), ``-inf`` when
+    ``max_iter`` is 0.
+    """
+    weights, means, covariances = _check_mixture(weights, means, covariances)
+    x, mask = _check_data(x, mask)
+    if x.shape[1] != means.shape[1]:
+        raise ValueError(f"x: expected [N, D] = [N, {means.shape[1]}], got {tuple(x.shape)}")
+    return _em(x, mask, weights, means, covariances, max_iter, tol, reg_covar)
+
+
+def fit_gmm(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = None, n_init: int = 1,
+            max_iter: int = 100, tol: float = 1e-3, reg_covar: float = 1e-6, init: str = "kmeans",
+            kmeans_max_iter: int = 300, kmeans_tol: float = 1e-4) -> GaussianMixture:
+    """Full-covariance Gaussian mixture of ``x [N, D]`` with K (static) components, best of ``n_init``
+    (static) restarts by lower bound: sklearn's ``GaussianMixture(k, covariance_type="full", ...)``.
+
+    Args:
+      key: PRNG key; restart i uses ``fold_in(key, i)``.
+      x: ``[N, D]``; mask: ``[N]`` bool, True for the samples to fit (default all).
+      k: static number of components.
+      n_init, max_iter, tol, reg_covar: as sklearn (see :func:`gmm_em`).
+      init: ``"kmeans"`` (responsibilities = one-hot labels of a one-restart :func:`kmeans` with
+        ``kmeans_max_iter`` and ``kmeans_tol``, then an M-step) or ``"random"`` (uniform responsibilities
+        normalised per sample, then an M-step).
+    """
+    k = _check_k(k)
+    if init not in ("kmeans", "random"):
+        raise ValueError(f"init: expected 'kmeans' or 'random', got {init!r}")
+    x, mask = _check_data(x, mask, k)
+    w = mask.astype(x.dtype)
+
+    def restart(i):
+        key_i = jax.random.fold_in(key, i)
+        if init == "kmeans":
+            labels = kmeans(key_i, x, k, mask=mask, max_iter=kmeans_max_iter, tol=kmeans_tol).labels
+            resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
+        else:
+            resp = jax.random.uniform(key_i, (x.shape[0], k), x.dtype)
+            resp = resp / resp.sum(axis=1, keepdims=True) * w[:, None]
+        return _em(x, mask, *_m_step(x, resp, reg_covar), max_iter, tol, reg_covar)
+
+    fits = jax.vmap(restart)(jnp.arange(n_init))
+    best = jnp.argmax(jnp.where(jnp.isnan(fits.lower_bound), -jnp.inf, fits.lower_bound))
+    return jax.tree.map(lambda a: a[best], fits)
+
+
+def _mixture_log_prob(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
+    return _weighted_log_prob(gmm.weights, gmm.means, _precision_cholesky(gmm.covariances), x)
+
+
+def gmm_log_prob(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
+    """Log density of the mixture at each row of ``x [N, D]`` -> ``[N]`` (sklearn's ``score_samples``)."""
+    return jax.nn.logsumexp(_mixture_log_prob(gmm, _check_features(x, gmm)), axis=-1)
+
+
+def gmm_responsibilities(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
+    """Posterior probability of each component for each row of ``x [N, D]`` -> ``[N, K]``
+    (sklearn's ``predict_proba``)."""
+    return jax.nn.softmax(_mixture_log_prob(gmm, _check_features(x, gmm)), axis=-1)
+
+
+def gmm_predict(gmm: GaussianMixture, x: jax.Array, mask: jax.Array | None = None) -> jax.Array:
+    """Most probable component of each row of ``x [N, D]`` -> ``[N]`` int32, -1 where ``mask [N]`` is
+    False."""
+    x = _check_features(x, gmm)
+    _, mask = _check_data(x, mask)
+    labels = jnp.argmax(_mixture_log_prob(gmm, x), axis=-1).astype(jnp.int32)
+    return jnp.where(mask, labels, -1)
+
+
+def _sample_given(key: jax.Array, gmm: GaussianMixture, components: jax.Array) -> jax.Array:
+    """One draw of component ``components [n]`` each -> ``[n, D]``."""
+    chol = jnp.linalg.cholesky(gmm.covariances)
+    z = jax.random.normal(key, components.shape + gmm.means.shape[-1:], gmm.means.dtype)
+    return gmm.means[components] + jnp.einsum("nde,ne->nd", chol[components], z, precision=_HIGHEST)
+
+
+def sample_gmm(key: jax.Array, gmm: GaussianMixture, n: int) -> jax.Array:
+    """``n`` (static) i.i.d. samples of the mixture -> ``[n, D]``."""
+    k_comp, k_draw = jax.random.split(key)
+    components = jax.random.categorical(k_comp, jnp.log(gmm.weights), shape=(n,))
+    return _sample_given(k_draw, gmm, components)
+
+
+def sample_components(key: jax.Array, gmm: GaussianMixture, counts: jax.Array,
+                      total: int) -> tuple[jax.Array, jax.Array]:
+    """``counts[k]`` samples of each component k (ODMO's mode-preserving sampling) -> ``(samples
+    [total, D], component [total])``, sorted by component.
+
+    ``counts [K]`` int ≥ 0 must sum to ``total`` (static); this is checked when ``counts`` has values.
+    Under ``jit``, rows past ``sum(counts)`` get component -1 and NaN samples, and counts past ``total``
+    are cut.
+    """
+    k = gmm.weights.shape[-1]
+    counts = jnp.asarray(counts)
+    if counts.shape != (k,) or not jnp.issubdtype(counts.dtype, jnp.integer):
+        raise ValueError(f"counts: expected integer [K] = ({k},), got {counts.dtype} {tuple(counts.shape)}")
+    if _has_value(counts):
+        if (np.asarray(counts) < 0).any() or int(counts.sum()) != total:
+            raise ValueError(f"counts: expected non-negative counts summing to total = {total}, got {counts}")
+    components = jnp.searchsorted(jnp.cumsum(counts), jnp.arange(total), side="right").astype(jnp.int32)
+    inside = components < k
+    samples = _sample_given(key, gmm, jnp.minimum(components, k - 1))
+    return jnp.where(inside[:, None], samples, jnp.nan), jnp.where(inside, components, -1)
+
+
+# ------------------------------------------------------------------------------------------ silhouette
+
+
+def silhouette_score(x: jax.Array, labels: jax.Array, k: int, *, mask: jax.Array | None = None) -> jax.Array:
+    """Mean silhouette of the valid samples of ``x [N, D]`` under ``labels [N]`` in ``[0, k)`` -> ``[]``,
+    as ``sklearn.metrics.silhouette_score`` with Euclidean distances.
+
+    ``k`` is static (labels ≥ k are an error, unused labels are ignored). NaN when a valid label is out of
+    range or the number of non-empty clusters is outside ``[2, n_valid − 1]`` (sklearn raises). Labels of
+    masked rows are ignored.
+    """
+    k = _check_k(k)
+    x, mask = _check_data(x, mask)
+    labels = jnp.asarray(labels)
+    if labels.shape != (x.shape[0],) or not jnp.issubdtype(labels.dtype, jnp.integer):
+        raise ValueError(f"labels: expected integer [N] = ({x.shape[0]},), got {labels.dtype} "
+                         f"{tuple(labels.shape)}")
+    w = mask.astype(x.dtype)
+    n_valid = w.sum()
+    centred = (x - (w @ x) / n_valid) * w[:, None]
+    squares = jnp.sum(centred**2, axis=-1)
+    gram = jnp.matmul(centred, centred.T, precision=_HIGHEST)
+    # Rounding can take the squared distance of near-identical samples slightly below zero.
+    dist = jnp.sqrt(jnp.maximum(squares[:, None] + squares[None, :] - 2.0 * gram, 0.0))
+    dist = jnp.where(jnp.eye(x.shape[0], dtype=bool), 0.0, dist)
+
+    onehot = jax.nn.one_hot(labels, k, dtype=x.dtype) * w[:, None]
+    sizes = onehot.sum(axis=0)  # [K]
+    to_clusters = jnp.matmul(dist, onehot, precision=_HIGHEST)  # [N, K] summed distance to each cluster
+    own = jnp.clip(labels, 0, k - 1)
+    own_size = sizes[own]
+    intra = jnp.take_along_axis(to_clusters, own[:, None], axis=1)[:, 0] / jnp.maximum(own_size - 1.0, 1.0)
+    other = (jnp.arange(k) != own[:, None]) & (sizes > 0)
+    inter = jnp.min(jnp.where(other, to_clusters / jnp.maximum(sizes, 1.0), jnp.inf), axis=1)
+    scale = jnp.maximum(intra, inter)
+    s = jnp.where((own_size > 1) & (scale > 0), (inter - intra) / jnp.where(scale > 0, scale, 1.0), 0.0)
+    score = (w @ s) / n_valid
+
+    used = jnp.sum(sizes > 0)
+    in_range = jnp.all(~mask | ((labels >= 0) & (labels < k)))
+    return jnp.where(in_range & (used >= 2) & (used <= n_valid - 1), score, jnp.nan)
+
+
+# ------------------------------------------------------------------------------------ ODMO's adaptive K
+
+
+def _first_break(s: Sequence[float], rule: str) -> int | None:
+    """Index into ``s`` of the k a rule chooses when it breaks, None when it never does."""
+    if rule == "code":
+        return next((j - 1 for j in range(1, len(s)) if s[j] < _RATIO * s[j - 1]), None)
+    return next((i for i in range(len(s) - 1) if s[i] > _RATIO * s[i + 1]), None)
+
+
+def _check_rule(rule: str) -> None:
+    if rule not in MODE_KS:
+        raise ValueError(f"rule: expected 'code' or 'paper', got {rule!r}")
+
+
+def choose_k(silhouettes: Mapping[int, float] | Sequence[float], ks: Sequence[int] | None = None, *,
+             rule: str = "code") -> int:
+    """ODMO's number of modes from the silhouettes ``S_k`` (host-side Python).
+
+    Args:
+      silhouettes: ``{k: S_k}``, or ``S_k`` in the order of ``ks``.
+      ks: the k of each silhouette (increasing); taken from the mapping when one is given.
+      rule: ``"code"``: the k before the first k with ``S_k < 0.95 · S_{k−1}``, else the last k;
+        ``"paper"``: the first k with ``S_k > 0.95 · S_{k+1}``, else the last k. A NaN never breaks.
+    """
+    _check_rule(rule)
+    if isinstance(silhouettes, Mapping):
+        ks = sorted(silhouettes)
+        s = [float(silhouettes[k]) for k in ks]
+    else:
+        s = [float(v) for v in np.asarray(silhouettes).reshape(-1)]
+        if ks is None or len(ks) != len(s):
+            raise ValueError(f"ks: expected one k per silhouette ({len(s)}), got {ks!r}")
+    if not s:
+        raise ValueError("silhouettes: expected at least one value, got none")
+    index = _first_break(s, rule)
+    return int(ks[-1 if index is None else index])
+
+
+@functools.partial(jax.jit, static_argnames=("k", "n_init", "init"))
+def _fit_and_score(keys, x, mask, k, n_init, max_iter, tol, reg_covar, init):
+    """For each of C problems ``x [C, N, D]``, ``mask [C, N]``: the GMM with k components, its labels and
+    their silhouette."""
+
+    def one(key, x, mask):
+        gmm = fit_gmm(jax.random.fold_in(key, k), x, k, mask=mask, n_init=n_init, max_iter=max_iter, tol=tol,
+                      reg_covar=reg_covar, init=init)
+        labels = gmm_predict(gmm, x, mask)
+        return gmm, labels, silhouette_score(x, labels, k, mask=mask)
+
+    return jax.vmap(one)(keys, x, mask)
+
+
+def _pad(gmm: GaussianMixture, k_max: int) -> GaussianMixture:
+    """Pad ``[C, k, ...]`` mixtures to ``k_max`` components of weight 0, mean 0, identity covariance."""
+    c, k, d = gmm.means.shape
+    extra = k_max - k
+    eye = jnp.broadcast_to(jnp.eye(d, dtype=gmm.covariances.dtype), (c, extra, d, d))
+    return gmm._replace(weights=jnp.pad(gmm.weights, ((0, 0), (0, extra))),
+                        means=jnp.pad(gmm.means, ((0, 0), (0, extra), (0, 0))),
+                        covariances=jnp.concatenate([gmm.covariances, eye], axis=1))
+
+
+def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
+    _check_rule(rule)
+    ks = tuple(MODE_KS[rule] if ks is None else (_check_k(k) for k in ks))
+    if not ks or list(ks) != sorted(set(ks)):
+        raise ValueError(f"ks: expected increasing distinct k, got {ks}")
+    return ks
+
+
+def _discover(class_keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:
+    c, n, _ = x.shape
+    if mask is None:
+        mask = jnp.ones((c, n), bool)
+    mask = jnp.asarray(mask)
+    if mask.shape != (c, n) or mask.dtype != bool:
+        raise ValueError(f"mask: expected bool [C, N] = ({c}, {n}), got {mask.dtype} {tuple(mask.shape)}")
+    if _has_value(mask):
+        n_valid = np.asarray(mask.sum(axis=1))
+        if (short := np.flatnonzero(n_valid < ks[-1])).size:
+            raise ValueError(f"mask: class {short[0]} has {n_valid[short[0]]} valid samples, fewer than "
+                             f"k = {ks[-1]} (the largest of ks)")
+    fits = [_fit_and_score(class_keys, x, mask, k=k, n_init=n_init, max_iter=max_iter, tol=tol,
+                           reg_covar=reg_covar, init=init) for k in ks]
+    silhouettes = np.stack([np.asarray(score) for _, _, score in fits], axis=1)  # [C, len(ks)]
+    chosen = np.array([choose_k(row, ks, rule=rule) for row in silhouettes])
+    index = jnp.asarray(np.searchsorted(ks, chosen))
+    classes = jnp.arange(c)
+    gmm = jax.tree.map(lambda *a: jnp.stack(a)[index, classes], *[_pad(g, ks[-1]) for g, _, _ in fits])
+    labels = jnp.stack([labels for _, labels, _ in fits])[index, classes]
+    return ModesBatch(chosen, gmm, labels, silhouettes, ks)
+
+
+def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None = None, *,
+                           ks: Sequence[int] | None = None, rule: str = "code", n_init: int = 5,
+                           max_iter: int = 100, tol: float = 1e-3, reg_covar: float = 1e-6,
+                           init: str = "kmeans") -> ModesBatch:
+    """ODMO's mode discovery for C independent problems (e.g. each class's latent codes) at once.
+
+    Args:
+      key: PRNG key; problem c uses ``split(key, C)[c]`` exactly as :func:`discover_modes` would.
+      x: ``[C, N, D]`` samples, each problem padded to N; mask: ``[C, N]`` bool, True for real samples.
+      ks: the k to try, increasing (default the rule's: ``MODE_KS[rule]``).
+      rule: ``"code"`` or ``"paper"`` (:func:`choose_k`).
+      n_init, max_iter, tol, reg_covar, init: the GMM fits (:func:`fit_gmm`; ODMO: k-means init, 5).
+
+    Every k is one jitted call fitting all C problems (vmapped, its GMM keyed ``fold_in(key_c, k)``);
+    the choice of k runs on the host. Raises ValueError when a problem has fewer valid samples than the
+    largest k. Returns a :class:`ModesBatch` (mixtures padded to ``max(ks)`` components).
+    """
+    x = jnp.asarray(x)
+    if x.ndim != 3:
+        raise ValueError(f"x: expected [C, N, D], got {tuple(x.shape)}")
+    return _discover(jax.random.split(key, x.shape[0]), x, mask, _resolve_ks(ks, rule), rule, n_init, max_iter,
+                     tol, reg_covar, init)
+
+
+def discover_modes(key: jax.Array, x: jax.Array, *, mask: jax.Array | None = None,
+                   ks: Sequence[int] | None = None, rule: str = "code", n_init: int = 5, max_iter: int = 100,
+                   tol: float = 1e-3, reg_covar: float = 1e-6, init: str = "kmeans") -> Modes:
+    """ODMO's mode discovery for one problem ``x [N, D]`` (``mask [N]``): fit a GMM for every k of
+    ``ks``, score its predicted labels with :func:`silhouette_score`, choose k by ``rule``.
+
+    Arguments as :func:`discover_modes_batched`, whose problem c this is when called with
+    ``split(key, C)[c]``. Returns :class:`Modes` with the mixture at the chosen k (k components).
+    """
+    ks = _resolve_ks(ks, rule)
+    x, mask = _check_data(x, mask, ks[-1])
+    batch = _discover(key[None], x[None], mask[None], ks, rule, n_init, max_iter, tol, reg_covar, init)
+    k = int(batch.k[0])
+    gmm = jax.tree.map(lambda a: a[0], batch.gmm)
+    gmm = gmm._replace(weights=gmm.weights[:k], means=gmm.means[:k], covariances=gmm.covariances[:k])
+    return Modes(k, gmm, batch.labels[0], dict(zip(batch.ks, batch.silhouettes[0].tolist())))
