@@ -9,6 +9,9 @@ from jaxmotion.data import Motion, pack
 from jaxmotion.data.pipeline import (
     BatchSpec,
     EpochOrder,
+    PairSpec,
+    class_members,
+    draw_partners,
     canonicalize_motion,
     make_batch_fn,
     random_lengths,
@@ -153,3 +156,58 @@ def test_bad_specs_are_rejected(dataset):
         BatchSpec(batch_size=2, window=10, min_length=11)
     with pytest.raises(ValueError, match="exceeds the 6 sequences"):
         make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=7, window=10))
+
+
+# --- pairs (ODMO) -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("other", ["uniform", "balanced"])
+def test_partners_share_the_class_half_of_the_time_and_are_never_the_sequence_itself(other):
+    actions = np.array([0] * 30 + [1] * 10 + [2] * 60)
+    table = class_members(actions, 3)
+    ids = jnp.asarray(np.tile(np.arange(100), 40))
+    partners, same = map(np.asarray, draw_partners(jax.random.key(0), ids, table, other, 0.5))
+    ids = np.asarray(ids)
+    np.testing.assert_array_equal(actions[partners] == actions[ids], same)
+    assert abs(same.mean() - 0.5) < 0.03
+    assert not np.any(partners[same] == ids[same])
+    # a same-class partner is uniform over the other members of the class
+    zeros = jnp.zeros(2000, jnp.int32)
+    of_first, _ = draw_partners(jax.random.key(1), zeros, table, other, 1.0)
+    counts = np.bincount(np.asarray(of_first), minlength=30)
+    assert counts[0] == 0 and np.all(counts[1:30] > 35) and counts[30:].sum() == 0
+    # another-class partner: by class size (uniform over sequences) or every other class alike
+    from_class_0 = actions[partners[~same & (actions[ids] == 0)]]
+    share_of_class_2 = np.mean(from_class_0 == 2)
+    assert abs(share_of_class_2 - (60 / 70 if other == "uniform" else 0.5)) < 0.05
+
+
+def test_a_lone_class_member_is_its_own_partner_and_a_single_class_always_pairs_within():
+    table = class_members(np.array([0, 1, 1]), 2)
+    partners, same = draw_partners(jax.random.key(1), jnp.zeros(200, jnp.int32), table, "uniform", 1.0)
+    assert np.all(np.asarray(partners) == 0) and np.all(np.asarray(same))
+    table = class_members(np.array([0, 0, 0]), 1)
+    partners, same = draw_partners(jax.random.key(2), jnp.zeros(200, jnp.int32), table, "uniform", 0.0)
+    assert np.all(np.asarray(same)) and set(np.asarray(partners).tolist()) == {1, 2}
+
+
+def test_pair_batches_are_deterministic_with_class_labels_matching_same(dataset):
+    spec = PairSpec(BatchSpec(batch_size=8, window=20, sampling="balanced", canonical=False))
+    a, b = make_batch_fn(dataset, jax.random.key(0), spec), make_batch_fn(dataset, jax.random.key(0), spec)
+    first, second = a(3), b(3)
+    for half in ("first", "second"):
+        for k, v in first[half].items():
+            np.testing.assert_array_equal(v, second[half][k])
+        assert first[half]["joints"].shape == (8, 20, 24, 3)
+        np.testing.assert_allclose(first[half]["joints"][:, 0, 0], 0, atol=1e-6)  # root of frame 0 at the origin
+    np.testing.assert_array_equal(first["same"], first["first"]["actions"] == first["second"]["actions"])
+    # the unpaired batch of the same spec and key is the pair batch's first half
+    plain = make_batch_fn(dataset, jax.random.key(0), spec.batch)(3)
+    np.testing.assert_array_equal(plain["joints"], first["first"]["joints"])
+
+
+def test_pair_spec_rejects_unknown_partner_draws():
+    with pytest.raises(ValueError, match="PairSpec.other"):
+        PairSpec(BatchSpec(batch_size=2, window=4), other="nearest")
+    with pytest.raises(ValueError, match="PairSpec.same_probability"):
+        PairSpec(BatchSpec(batch_size=2, window=4), same_probability=1.5)
