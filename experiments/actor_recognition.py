@@ -53,7 +53,7 @@ import numpy as np
 
 from jaxmotion import experiment
 from jaxmotion.config import replace_paths
-from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.motion import MotionDataset, to_dataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows, gather_windows
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, evaluator_spec, train_recognizer
@@ -65,7 +65,6 @@ from jaxmotion.pipelines.actor import (
     interpolated_set,
     noisy,
     real_plus_generated,
-    to_dataset,
 )
 from jaxmotion.train.actor import ActorTraining, uestc_training
 from jaxmotion.train.loop import LoopConfig

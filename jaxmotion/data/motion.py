@@ -230,6 +230,30 @@ def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Seque
     )
 
 
+def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fps: float, *, name: str = "actor",
+               split: str = "generated", modes: np.ndarray | None = None, names: Sequence[str] | None = None,
+               mode_names: Sequence[Sequence[str]] = ()) -> MotionDataset:
+    """A batch dict (``joints``, ``translation``, optionally ``rotations`` ``[B, T, ...]``, ``lengths [B]``,
+    ``actions [B]``), as the pipeline and the generators' samplers give it -> the packed ``MotionDataset``
+    of its B motions, each cut to its length."""
+    lengths = np.asarray(motions["lengths"]).astype(np.int64)
+    frames = np.shape(motions["joints"])[1]
+    keep = np.arange(frames)[None, :] < lengths[:, None]  # row-major order is the packed order
+    count = len(lengths)
+    return MotionDataset(
+        name=name, split=split, class_names=tuple(class_names), skeleton=skeleton, fps=float(fps),
+        joints=np.asarray(motions["joints"], np.float32)[keep],
+        translation=np.asarray(motions["translation"], np.float32)[keep],
+        rotations=np.asarray(motions["rotations"], np.float32)[keep] if "rotations" in motions else None,
+        starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
+        actions=np.asarray(motions["actions"], np.int32),
+        modes=np.full(count, -1, np.int32) if modes is None else np.asarray(modes, np.int32),
+        subjects=np.full(count, -1, np.int32),
+        names=tuple(f"{name}-{i}" for i in range(count)) if names is None else tuple(names),
+        mode_names=tuple(tuple(m) for m in mode_names),
+    )
+
+
 def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
     """The sequences of several datasets with the same classes and skeleton, one after another."""
     first = parts[0]

@@ -14,7 +14,7 @@ Motions in and out are the library's batch dict (as :func:`jaxmotion.data.pipeli
 returns): ``joints [B, T, J, 3]`` (forward kinematics of ``rotations`` on the skeleton's rest offsets,
 plus ``translation``), ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``, ``mask [B, T]``,
 ``lengths [B]``, ``actions [B]``; frames past a length repeat the last real one (``padding="last"``, the
-pipeline's :func:`~jaxmotion.data.pipeline.window_frames`). :func:`to_dataset` packs such a dict into a
+pipeline's :func:`~jaxmotion.data.pipeline.window_frames`). :func:`~jaxmotion.data.motion.to_dataset` packs such a dict into a
 ``MotionDataset`` (padding dropped). Host functions work ``chunk`` rows at a time
 (:func:`~jaxmotion.data.pipeline.map_in_chunks`, one compilation per call) and draw each row's
 randomness from its own key, so results do not depend on ``chunk``. The jitted cores take the parameters
@@ -35,7 +35,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxmotion.data.motion import Motion, MotionDataset, concatenate
+from jaxmotion.data.motion import Motion, MotionDataset, concatenate, to_dataset
 from jaxmotion.data.pipeline import (
     BatchSpec,
     Padding,
@@ -202,29 +202,6 @@ def _row_keys(key: jax.Array, count: int) -> np.ndarray:
 
 
 # --- packing ---------------------------------------------------------------------------------------
-
-
-def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fps: float, *, name: str = "actor",
-               split: str = "generated", modes: np.ndarray | None = None, names: Sequence[str] | None = None,
-               mode_names: Sequence[Sequence[str]] = ()) -> MotionDataset:
-    """A batch dict (``joints``, ``rotations``, ``translation`` ``[B, T, ...]``, ``lengths [B]``,
-    ``actions [B]``) -> the packed ``MotionDataset`` of its B motions, each cut to its length."""
-    lengths = np.asarray(motions["lengths"]).astype(np.int64)
-    frames = np.shape(motions["joints"])[1]
-    keep = np.arange(frames)[None, :] < lengths[:, None]  # row-major order is the packed order
-    count = len(lengths)
-    return MotionDataset(
-        name=name, split=split, class_names=tuple(class_names), skeleton=skeleton, fps=float(fps),
-        joints=np.asarray(motions["joints"], np.float32)[keep],
-        translation=np.asarray(motions["translation"], np.float32)[keep],
-        rotations=np.asarray(motions["rotations"], np.float32)[keep],
-        starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
-        actions=np.asarray(motions["actions"], np.int32),
-        modes=np.full(count, -1, np.int32) if modes is None else np.asarray(modes, np.int32),
-        subjects=np.full(count, -1, np.int32),
-        names=tuple(f"{name}-{i}" for i in range(count)) if names is None else tuple(names),
-        mode_names=tuple(tuple(m) for m in mode_names),
-    )
 
 
 # --- use cases -------------------------------------------------------------------------------------

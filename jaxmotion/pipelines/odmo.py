@@ -1,0 +1,365 @@
+"""ODMO put to use (P-OD §3.3, §4.3, §4.4; OD ``src/modules/ensemble.py``, ``customization/*.py``): the code
+bank of real motions, mode discovery, mode-preserving and conventional sampling, the end location from the
+nearest real code, interpolation between modes and trajectory customisation by a requested end point.
+
+* :func:`code_bank`: codes ``µ`` of real training windows per class (eval-mode encoder), with each window's
+  end root, clip, class and ground-truth style mode: what every sampler and customisation reads.
+* :func:`class_modes`: each class's modes, a Gaussian mixture over its codes with K chosen by the
+  silhouette rule (:func:`jaxmotion.mixtures.discover_modes_batched`; GMMs keyed from seed 0, as the code's
+  ``random_state=0``).
+* :func:`sample_codes` with ``sampling="modes"`` (ODMO, mode-preserving): ``n`` codes of a class split
+  over its components in proportion to their sizes (components holding ≤ 10 codes get none; the rounding
+  remainder goes to the first kept component: :func:`mode_counts`), each drawn from its component's
+  Gaussian; ``"conventional"`` (ODMO_conv): one C-component mixture over every class's codes, each class
+  kept to the codes in its majority component, the mixture refitted on those (twice, continuing EM, as the
+  code's ``warm_start``), and the class's codes drawn from its majority component
+  (:func:`conventional_mixture`).
+* :func:`nearest_ends`: the end root of the nearest real code of the class (the code's 1-nearest neighbour;
+  the paper says "KNN").
+* :func:`generate_from_codes`, :func:`sample_motions`, :func:`odmo_sampler`: motions from codes, classes and
+  end points; the evaluation protocol's sampler.
+* :func:`interpolate_modes`: codes on the segment between two modes' means, decoded (Figure 3's strip).
+* :func:`customize_end`: one code sent to many end points (or many codes to one), Figure 4;
+  :func:`end_point_trials`: Table 4's population test (dist_e, the hit rate at 10% of the distance).
+
+Motions come back as the library's batch dict (:func:`jaxmotion.data.pipeline.gather_windows`' layout):
+``joints [N, T, J, 3]`` (the window's frame: root of frame 0 at the origin), ``translation [N, T, 3]`` (the
+root joint's path), ``mask [N, T]``, ``lengths [N]``, ``actions [N]``, plus ``codes [N, Z]``, ``ends [N, 3]``
+and, where they come from mixtures, ``components [N]``; :func:`jaxmotion.data.motion.to_dataset` packs one.
+Every function takes its randomness from an explicit key.
+
+Where this differs from the code: the mixtures are fitted once per sampler (the code refits them in each of
+its 10 evaluation repetitions, from fresh code draws), and the bank is drawn once per trained model.
+
+Axes: N motions or codes, T frames, J joints, Z code, C classes, K mixture components.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxmotion.data.labels import check_actions, check_durations
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.pipeline import BatchSpec, gather_windows, sample_sequences, sequence_weights
+from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.mixtures import (
+    GaussianMixture,
+    ModesBatch,
+    discover_modes_batched,
+    fit_gmm,
+    gmm_em,
+    gmm_predict,
+    sample_components,
+)
+from jaxmotion.models.odmo import ODMOConfig, ODMOParams, ODMOStats, encode, flatten_poses, generate, unflatten_poses
+
+MIN_MODE_SIZE = 10  # the code gives no samples to components holding this many codes or fewer
+GMM_SEED = 0  # the code's random_state
+
+
+class CodeBank(NamedTuple):
+    """Codes of real training windows (exact duplicates dropped) and what each came from."""
+
+    codes: np.ndarray  # [N, Z] µ of the window (eval-mode encoder)
+    ends: np.ndarray  # [N, 3] the window's end root
+    actions: np.ndarray  # [N] class
+    clips: np.ndarray  # [N] index of the clip in the training set
+    modes: np.ndarray  # [N] the clip's ground-truth style mode (-1 where unknown)
+
+    def of_class(self, action: int) -> np.ndarray:
+        """Rows of class ``action``."""
+        return np.flatnonzero(self.actions == action)
+
+
+@functools.partial(jax.jit, static_argnames=("config",))
+def _encode_rows(params: ODMOParams, stats: ODMOStats, joints: jax.Array, config: ODMOConfig) -> jax.Array:
+    return encode(params, stats, flatten_poses(joints), config, train=False)[0]
+
+
+def encode_windows(params: ODMOParams, stats: ODMOStats, config: ODMOConfig, joints: np.ndarray,
+                   chunk: int = 1024) -> np.ndarray:
+    """Code means of windows ``joints [N, T, J, 3]`` -> ``µ [N, Z]`` (eval mode, ``chunk`` at a time)."""
+    joints = np.asarray(joints, np.float32)
+    if joints.ndim != 4 or joints.shape[1:] != (config.num_frames, config.num_joints, 3):
+        raise ValueError(f"joints: expected [N, {config.num_frames}, {config.num_joints}, 3], got {joints.shape}")
+    out = []
+    size = min(chunk, len(joints))
+    for first in range(0, len(joints), size):
+        part = joints[first:first + size]
+        padded = np.pad(part, [(0, size - len(part))] + [(0, 0)] * 3, mode="edge")
+        out.append(np.asarray(_encode_rows(params, stats, jnp.asarray(padded), config))[:len(part)])
+    return np.concatenate(out)
+
+
+def code_bank(params: ODMOParams, stats: ODMOStats, training, data: MotionDataset, key: jax.Array) -> CodeBank:
+    """The codes of ``training.bank.passes × training.bank.draws`` class-balanced random windows of ``data``
+    (``training``: an :class:`~jaxmotion.train.odmo.ODMOTraining`), duplicates dropped, in class order."""
+    config = training.model
+    k_ids, k_windows = jax.random.split(key)
+    weights = sequence_weights(jnp.asarray(data.actions), data.num_classes, "balanced")
+    ids = np.asarray(sample_sequences(k_ids, weights, training.bank.passes * training.bank.draws))
+    spec = BatchSpec(batch_size=1, window=config.num_frames, canonical=training.canonical)
+    windows = gather_windows(data, ids, k_windows, spec)
+    codes = encode_windows(params, stats, config, windows["joints"])
+    _, first = np.unique(codes, axis=0, return_index=True)
+    keep = np.sort(first)
+    keep = keep[np.argsort(windows["actions"][keep], kind="stable")]
+    return CodeBank(codes[keep], windows["joints"][keep, -1, 0], windows["actions"][keep].astype(np.int32),
+                    ids[keep].astype(np.int32), windows["modes"][keep].astype(np.int32))
+
+
+# ------------------------------------------------------------------------------------------------ mixtures
+
+
+def padded_classes(bank: CodeBank, num_classes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The bank's codes per class, padded: ``codes [C, M, Z]`` and ``mask [C, M]`` (M: the largest class)."""
+    rows = [bank.of_class(c) for c in range(num_classes)]
+    width = max(len(r) for r in rows)
+    codes = np.zeros((num_classes, width, bank.codes.shape[1]), np.float32)
+    mask = np.zeros((num_classes, width), bool)
+    for c, r in enumerate(rows):
+        codes[c, :len(r)], mask[c, :len(r)] = bank.codes[r], True
+    return codes, mask
+
+
+def class_modes(bank: CodeBank, num_classes: int, *, rule: str = "code", ks=None, n_init: int = 5,
+                key: jax.Array | None = None) -> ModesBatch:
+    """Every class's modes, all classes fitted together: labels ``[C, M]`` follow :func:`padded_classes`'
+    rows (-1 on padding). ``key``: the GMMs' (default: seed 0, the code's ``random_state``)."""
+    codes, mask = padded_classes(bank, num_classes)
+    key = jax.random.key(GMM_SEED) if key is None else key
+    return discover_modes_batched(key, jnp.asarray(codes), jnp.asarray(mask), ks=ks, rule=rule, n_init=n_init)
+
+
+def bank_labels(bank: CodeBank, modes: ModesBatch) -> np.ndarray:
+    """Each bank row's discovered mode (its class's component), ``[N]``, from :func:`class_modes`' labels."""
+    labels = np.full(len(bank.codes), -1, np.int32)
+    padded = np.asarray(modes.labels)
+    for c in range(padded.shape[0]):
+        rows = bank.of_class(c)
+        labels[rows] = padded[c, :len(rows)]
+    return labels
+
+
+def mode_counts(sizes: np.ndarray, n: int, min_size: int = MIN_MODE_SIZE) -> np.ndarray:
+    """The code's split of ``n`` samples over components of ``sizes [K]`` codes: none for components of
+    ``≤ min_size`` codes, ``⌊n · size / Σ kept⌋`` for the others, the remainder to the first kept one.
+    When no component is larger than ``min_size`` (tiny banks), every non-empty one is kept."""
+    sizes = np.asarray(sizes, np.int64)
+    kept = sizes > min_size
+    if not kept.any():
+        kept = sizes > 0
+    weights = np.where(kept, sizes, 0)
+    counts = (weights / weights.sum() * n).astype(np.int64)
+    counts[np.flatnonzero(kept)[0]] += n - counts.sum()
+    return counts
+
+
+class Conventional(NamedTuple):
+    """ODMO_conv's mixture: one component per class (``mapping[c]``: class c's component)."""
+
+    gmm: GaussianMixture
+    mapping: np.ndarray  # [C]
+
+
+def _majority(labels: np.ndarray, actions: np.ndarray, num_classes: int, k: int) -> np.ndarray:
+    return np.array([np.bincount(labels[actions == c], minlength=k).argmax() for c in range(num_classes)])
+
+
+def conventional_mixture(bank: CodeBank, num_classes: int, *, key: jax.Array | None = None) -> Conventional:
+    """The code's ``create_GMM``: a C-component GMM over all codes (k-means init, tol 1e-4, 200 iterations),
+    each class filtered to its majority component, the GMM refitted twice from where it stood on the
+    filtered codes, and each class mapped to its majority component after that."""
+    key = jax.random.key(GMM_SEED) if key is None else key
+    codes = jnp.asarray(bank.codes)
+    gmm = fit_gmm(key, codes, num_classes, max_iter=200, tol=1e-4)
+    labels = np.asarray(gmm_predict(gmm, codes))
+    majority = _majority(labels, bank.actions, num_classes, num_classes)
+    keep = labels == majority[bank.actions]
+    filtered = codes[np.flatnonzero(keep)]
+    for _ in range(2):
+        gmm = gmm_em(filtered, gmm.weights, gmm.means, gmm.covariances, max_iter=200, tol=1e-4)
+    mapping = _majority(np.asarray(gmm_predict(gmm, filtered)), bank.actions[keep], num_classes, num_classes)
+    return Conventional(gmm, mapping)
+
+
+def sample_codes(key: jax.Array, actions: np.ndarray, mixtures: ModesBatch | Conventional) -> tuple[np.ndarray, np.ndarray]:
+    """Codes for ``actions [N]`` -> ``(codes [N, Z], components [N])``. Mode-preserving (a
+    :class:`~jaxmotion.mixtures.ModesBatch`): each class's rows split by :func:`mode_counts` over its modes;
+    conventional (:class:`Conventional`): each class's component. Class c draws from ``fold_in(key, c)``."""
+    actions = np.asarray(actions)
+    width = mixtures.gmm.means.shape[-1]
+    codes, components = np.zeros((len(actions), width), np.float32), np.zeros(len(actions), np.int32)
+    for c in np.unique(actions):
+        rows = np.flatnonzero(actions == c)
+        key_c = jax.random.fold_in(key, int(c))
+        if isinstance(mixtures, Conventional):
+            gmm = mixtures.gmm
+            component = int(mixtures.mapping[c])
+            counts = np.zeros(gmm.weights.shape[0], np.int64)
+            counts[component] = len(rows)
+        else:
+            gmm = jax.tree.map(lambda a: a[c], mixtures.gmm)
+            k = int(mixtures.k[c])
+            labels = np.asarray(mixtures.labels[c])
+            sizes = np.bincount(labels[labels >= 0], minlength=gmm.weights.shape[0])
+            counts = mode_counts(sizes[:k], len(rows))
+            counts = np.concatenate([counts, np.zeros(gmm.weights.shape[0] - k, np.int64)])
+        drawn, which = sample_components(key_c, gmm, jnp.asarray(counts, jnp.int32), len(rows))
+        codes[rows], components[rows] = np.asarray(drawn), np.asarray(which)
+    return codes, components
+
+
+def nearest_ends(bank: CodeBank, codes: np.ndarray, actions: np.ndarray) -> np.ndarray:
+    """The end root of each code's nearest real code of its class: ``[N, Z], [N] -> [N, 3]``."""
+    codes, actions = np.asarray(codes, np.float32), np.asarray(actions)
+    ends = np.zeros((len(codes), 3), np.float32)
+    for c in np.unique(actions):
+        rows, real = np.flatnonzero(actions == c), bank.of_class(int(c))
+        if real.size == 0:
+            raise ValueError(f"actions: class {c} has no code in the bank to take an end point from")
+        d = np.square(codes[rows, None, :] - bank.codes[None, real, :]).sum(-1)
+        ends[rows] = bank.ends[real[np.argmin(d, axis=1)]]
+    return ends
+
+
+# ---------------------------------------------------------------------------------------------- generation
+
+
+@functools.partial(jax.jit, static_argnames=("config",))
+def _generate_rows(params: ODMOParams, codes: jax.Array, actions: jax.Array, ends: jax.Array, config: ODMOConfig):
+    return generate(params, codes, actions, ends, config)
+
+
+def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, ends, *, chunk: int = 512
+                        ) -> dict[str, np.ndarray]:
+    """Motions from ``codes [N, Z]``, ``actions [N]`` and requested end roots ``ends [N, 3]`` (the batch dict
+    of the module docstring, with the trajectory generator's path as ``trajectory [N, T, 3]``)."""
+    codes, ends = np.asarray(codes, np.float32), np.asarray(ends, np.float32)
+    actions = np.asarray(actions)
+    if codes.ndim != 2 or codes.shape[1] != config.code_dim:
+        raise ValueError(f"codes: expected [N, {config.code_dim}], got {codes.shape}")
+    n = len(codes)
+    if n == 0:
+        raise ValueError("codes: expected at least one code, got none")
+    if actions.shape != (n,) or ends.shape != (n, 3):
+        raise ValueError(f"actions, ends: expected [{n}] and [{n}, 3], got {actions.shape} and {ends.shape}")
+    check_actions(actions, config.num_classes)
+    size = min(chunk, n)
+    poses, paths = [], []
+    for first in range(0, n, size):
+        rows = slice(first, first + size)
+        pad = size - len(codes[rows])
+        part = [np.pad(a[rows], [(0, pad)] + [(0, 0)] * (a.ndim - 1), mode="edge") for a in (codes, actions, ends)]
+        out = _generate_rows(params, *(jnp.asarray(a) for a in part), config)
+        poses.append(np.asarray(out["poses"])[:size - pad])
+        paths.append(np.asarray(out["trajectory"])[:size - pad])
+    joints = np.asarray(unflatten_poses(np.concatenate(poses)))
+    t = config.num_frames
+    return {"joints": joints, "translation": joints[:, :, 0].copy(), "mask": np.ones((n, t), bool),
+            "lengths": np.full(n, t, np.int32), "actions": actions.astype(np.int32), "codes": codes, "ends": ends,
+            "trajectory": np.concatenate(paths)}
+
+
+def mixtures_for(trained, training) -> ModesBatch | Conventional:
+    """The mixtures ``training.sampling`` draws codes from (``trained``: an :class:`~jaxmotion.train.odmo.ODMOFit`)."""
+    classes = training.model.num_classes
+    if training.sampling == "conventional":
+        return conventional_mixture(trained.bank, classes)
+    return class_modes(trained.bank, classes)
+
+
+def sample_motions(trained, training, key: jax.Array, actions, *, mixtures: ModesBatch | Conventional | None = None
+                   ) -> dict[str, np.ndarray]:
+    """ODMO's generation: codes for ``actions [N]`` from the mixtures (default :func:`mixtures_for`), each
+    code's end point from the nearest real code, decoded. Adds ``components [N]``."""
+    actions = np.asarray(actions)
+    check_actions(actions, training.model.num_classes)
+    mixtures = mixtures_for(trained, training) if mixtures is None else mixtures
+    codes, components = sample_codes(key, actions, mixtures)
+    ends = nearest_ends(trained.bank, codes, actions)
+    return {**generate_from_codes(trained.params, training.model, codes, actions, ends), "components": components}
+
+
+def odmo_sampler(trained, training, skeleton: Skeleton):
+    """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions``: the mixtures are
+    fitted once, here; every call draws codes and decodes them (:func:`sample_motions`). ODMO generates
+    ``training.model.num_frames`` frames: other durations are refused."""
+    config = training.model
+    if config.num_joints != skeleton.num_joints:
+        raise ValueError(f"skeleton: the model has {config.num_joints} joints, {skeleton.name} has {skeleton.num_joints}")
+    mixtures = mixtures_for(trained, training)
+
+    def sampler(key, actions, durations):
+        check_durations(durations, len(actions))
+        durations = np.asarray(durations)
+        if np.any(durations != config.num_frames):
+            raise ValueError(f"durations: ODMO generates {config.num_frames} frames; got {sorted(set(durations.tolist()))}")
+        out = sample_motions(trained, training, key, actions, mixtures=mixtures)
+        return {k: out[k] for k in ("joints", "translation", "mask", "lengths", "actions")}
+
+    return sampler
+
+
+# ---------------------------------------------------------------------------------------------- customisation
+
+
+def interpolate_modes(trained, training, action: int, mode_a: int, mode_b: int, steps: int,
+                      modes: ModesBatch | None = None) -> dict[str, np.ndarray]:
+    """Figure 3's strip: ``steps`` codes evenly spaced from mode ``mode_a``'s mean to ``mode_b``'s (of class
+    ``action``), each with its nearest real end point, decoded; adds ``weights [steps]`` (0 at ``mode_a``)."""
+    modes = class_modes(trained.bank, training.model.num_classes) if modes is None else modes
+    k = int(modes.k[action])
+    if not (0 <= mode_a < k and 0 <= mode_b < k):
+        raise ValueError(f"mode_a, mode_b: class {action} has {k} modes (0..{k - 1}), got {mode_a}, {mode_b}")
+    if steps < 2:
+        raise ValueError(f"steps: expected >= 2, got {steps}")
+    means = np.asarray(modes.gmm.means[action])
+    weights = np.linspace(0.0, 1.0, steps, dtype=np.float32)
+    codes = (1 - weights[:, None]) * means[mode_a] + weights[:, None] * means[mode_b]
+    actions = np.full(steps, action, np.int32)
+    out = generate_from_codes(trained.params, training.model, codes, actions, nearest_ends(trained.bank, codes, actions))
+    return {**out, "weights": weights}
+
+
+def customize_end(trained, training, codes, action: int, ends) -> dict[str, np.ndarray]:
+    """Figure 4: motions of class ``action`` that should end at ``ends [N, 3]``; ``codes`` ``[N, Z]``, or one
+    code ``[Z]`` sent to every end (one style, many destinations)."""
+    ends = np.asarray(ends, np.float32)
+    codes = np.asarray(codes, np.float32)
+    if codes.ndim == 1:
+        codes = np.broadcast_to(codes, (len(ends), codes.shape[0]))
+    return generate_from_codes(trained.params, training.model, codes, np.full(len(ends), action, np.int32), ends)
+
+
+def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, points: int = 10,
+                     threshold: float = 0.1) -> dict[str, np.ndarray]:
+    """Table 4's test (OD ``trajectory_customization.py``): per class, ``trials`` times, a random real code
+    of the class and ``points`` end points evenly spaced between the end roots of two random real windows
+    of the class; each pair decoded and its final root compared with the requested end.
+
+    Returns the motions (the batch dict, ``trials · points`` per class, in class order) and per class
+    ``dist_e [C]`` (the code's metric: mean squared end error, m²), ``end_error [C]`` (mean Euclidean error,
+    m) and ``hit_rate [C]`` (share with squared error below ``(threshold · ‖end‖)²``, the code's "error rate")."""
+    bank, config = trained.bank, training.model
+    codes, ends, actions = [], [], []
+    for c in range(config.num_classes):
+        rows = bank.of_class(c)
+        pick = np.asarray(jax.random.randint(jax.random.fold_in(key, c), (trials, 3), 0, len(rows)))
+        source, end_a, end_b = (rows[pick[:, i]] for i in range(3))
+        w = np.linspace(0.0, 1.0, points, dtype=np.float32)[None, :, None]
+        ends.append(((1 - w) * bank.ends[end_a][:, None] + w * bank.ends[end_b][:, None]).reshape(-1, 3))
+        codes.append(np.repeat(bank.codes[source], points, axis=0))
+        actions.append(np.full(trials * points, c, np.int32))
+    codes, ends, actions = np.concatenate(codes), np.concatenate(ends), np.concatenate(actions)
+    motions = generate_from_codes(trained.params, config, codes, actions, ends)
+    squared = np.square(motions["joints"][:, -1, 0] - ends).sum(-1)
+    hit = squared < np.square(ends).sum(-1) * threshold**2
+    per_class = lambda v: np.array([v[actions == c].mean() for c in range(config.num_classes)])  # noqa: E731
+    return {"motions": motions, "dist_e": per_class(squared), "end_error": per_class(np.sqrt(squared)),
+            "hit_rate": per_class(hit.astype(np.float64))}
