@@ -34,7 +34,8 @@ in order (the Real [21] row matches Action2Motion's own paper).
 
 cpu profile: ACTOR d 64, 2 layers, 3 000 steps and Action2Motion (the paper's sizes) 900 iterations at
 batch 64 (about as many clips seen), on both datasets, 5 repetitions of up to 1 000 motions. Estimated from
-step times measured on the 2-core CPU with nothing else running (see ``CPU`` and :func:`a2m_training`; about
+step times measured on the 2-core CPU with nothing else running (see ``CPU`` and
+:func:`jaxmotion.train.a2m.a2m_table_training`; about
 1.7 times longer while another job shares it): about 20 minutes (training 17, compiling and evaluating 3),
 plus about 4 minutes the first time, to train and cache the two evaluators (shared with other experiments).
 Measured (seed 0, evaluators cached, another job sharing the cores): 24 minutes. Three of the four claims
@@ -48,11 +49,10 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import STAND_INS, TableDataset, interleave_reported, reported_row, run_tables, table_dataset
+from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row, run_tables, table_dataset
 from jaxmotion.losses.actor import ActorLossWeights
-from jaxmotion.models.a2m import A2MVAEConfig
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.train.a2m import A2MTraining, a2m_table_training
 from jaxmotion.train.actor import ActorTraining, table_training
 from jaxmotion.train.loop import LoopConfig
 
@@ -83,20 +83,6 @@ CLAIMS = (
 )
 
 
-def a2m_training(label: str, profile: str) -> A2MTraining:
-    """Action2Motion on the embedded stand-in of ``label`` (24 joints) in ``profile``: the released xyz
-    configuration (paper), the same sizes for 900 iterations at batch 64 (cpu), a tiny model (smoke)."""
-    classes = STAND_INS[label].num_classes
-    if profile == "smoke":
-        model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, hidden=8, latent=4, decoder_layers=1,
-                             time_counter=False)
-        return A2MTraining(model, LoopConfig(2, log_every=2, checkpoint_every=0), batch_size=8)
-    model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, time_counter=False)
-    if profile == "cpu":
-        return A2MTraining(model, LoopConfig(900, log_every=100, checkpoint_every=300), batch_size=64)
-    return A2MTraining(model, LoopConfig(50_000, log_every=100, checkpoint_every=5000))
-
-
 @dataclasses.dataclass(frozen=True)
 class ActorSotaConfig(experiment.ProfileConfig):
     ntu13: TableDataset
@@ -110,7 +96,7 @@ class ActorSotaConfig(experiment.ProfileConfig):
     def for_profile(cls, profile: str) -> ActorSotaConfig:
         return cls(table_dataset("NTU-13", profile), table_training("NTU-13", profile, CPU),
                    table_dataset("HumanAct12", profile), table_training("HumanAct12", profile, CPU),
-                   a2m_training("NTU-13", profile), a2m_training("HumanAct12", profile))
+                   a2m_table_training("NTU-13", profile), a2m_table_training("HumanAct12", profile))
 
 
 def run(config: ActorSotaConfig, ctx: experiment.RunContext):

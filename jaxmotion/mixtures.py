@@ -3,8 +3,7 @@ the silhouette score and ODMO's adaptive choice of the number of modes.
 
 Every kernel is written for one problem ``x [N, D]`` with a validity ``mask [N]`` and is jittable and
 vmappable, so many independent problems (all classes of a dataset, each padded to the same N) fit in one
-call: :func:`discover_modes_batched` fits every class's mixtures for one K in a single jitted, vmapped
-computation. K is static (a Python int); iteration counts, tolerances and the covariance floor are traced.
+call. K is static (a Python int); iteration counts, tolerances and the covariance floor are traced.
 Iterations are ``lax.while_loop`` s with a convergence flag: under ``vmap`` the loop runs until the last
 problem converges and a converged problem's state is held fixed, so each problem gets the iterations it
 would get alone.
@@ -12,10 +11,10 @@ would get alone.
 The algorithms are scikit-learn's (``KMeans``, ``GaussianMixture(covariance_type="full")``,
 ``metrics.silhouette_score``), which the ODMO authors call:
 
-* **k-means++** is sklearn's greedy variant: each new center is the best, by the resulting inertia, of
+* **k-means++** is sklearn's greedy variant: each new center is the best, by the inertia it leaves, of
   ``2 + ⌊ln K⌋`` candidates drawn with probability ∝ squared distance to the nearest chosen center. Draws
   are inverse-CDF look-ups of uniforms in the cumulative weights, as sklearn's, which makes them blind to
-  masked rows (padding moves no draw).
+  masked rows: padding moves no draw.
 * **Lloyd** iterations as sklearn's: stop when no label changes or when the squared center shift summed
   over centers is ``≤ tol · mean_d var(x_d)`` (``tol`` is relative to the mean per-feature variance of
   the valid samples); an empty cluster takes the valid sample farthest from its center, as sklearn
@@ -26,11 +25,12 @@ The algorithms are scikit-learn's (``KMeans``, ``GaussianMixture(covariance_type
   from the factors), log-sum-exp responsibilities. Iteration i runs an E-step (its mean log-likelihood is
   the lower bound) then an M-step, and stops once ``|Δ lower bound| < tol``; so, as sklearn's
   ``lower_bound_``, the returned lower bound is that of the parameters one M-step before the returned
-  ones. ``init="kmeans"`` starts from the M-step of a k-means fit's one-hot labels (sklearn's default),
-  ``"random"`` from uniform random responsibilities normalised per sample.
-* **Restarts** (``n_init``) are vmapped; restart i draws from ``fold_in(key, i)``, so the restarts of
-  ``n_init = m`` are the first m of any larger ``n_init`` and the best result can only improve with it.
-  k-means keeps the lowest inertia, EM the highest lower bound (the first on ties, as sklearn).
+  ones. ``init="kmeans"`` starts from the M-step of a one-restart k-means fit's one-hot labels (sklearn's
+  default), ``"random"`` from uniform random responsibilities normalised per sample.
+* **Restarts** (``n_init``) are vmapped; restart i reads row i of one uniform draw ``[R, ...]`` made from
+  the key, so under JAX's default (partitionable) threefry the restarts of ``n_init = m`` are the first m
+  of any larger ``n_init`` and the best result can only improve with it. k-means keeps the lowest
+  inertia, EM the highest lower bound (the first on ties, as sklearn).
 * **Silhouette**: Euclidean; the mean intra-cluster distance excludes the sample itself, a sample alone in
   its cluster scores 0, as does one with both distances 0, and empty clusters are left out of the
   nearest-other-cluster minimum (sklearn re-encodes labels, so unused labels never count).
@@ -49,17 +49,21 @@ Where these differ from sklearn:
   padding.
 
 ODMO's number of modes (:func:`choose_k`; FACTS §7, code vs paper) from the silhouettes ``S_k`` of GMMs
-(k-means init, ``n_init`` 5) over the class's latent codes:
+(k-means init, ``n_init`` 5) over the class's latent codes, each scored on its own predicted labels:
 
 * ``rule="code"`` (default; ODMO's ``sample_code_multimodal``): k = 3..9, stop at the first k with
   ``S_k < 0.95 · S_{k−1}`` and use k − 1; 9 when nothing breaks.
 * ``rule="paper"`` (supplement, Sec. 2.2): k = 3..11, the first i with ``S_i > 0.95 · S_{i+1}``; 11 when
   none.
 
-Dropping small components before sampling (ODMO: ≤ 10 codes in the code, < 10 in the paper) is the
-caller's: give them a count of 0 in :func:`sample_components`.
+:func:`discover_modes_batched` fits every k of every problem in one jitted computation: a fit with k
+components runs in ``max(ks)`` component slots of which the first k are active (an inactive slot has
+weight 0, takes no sample and is never a center), so one compilation serves all ks and the ks are
+vmapped like the problems and restarts. Dropping small components before sampling (ODMO: ≤ 10 codes in
+the code, < 10 in the paper) is the caller's: give them a count of 0 in :func:`sample_components`.
 
-Axes: N samples, D features, K components, C independent problems (classes), R restarts.
+Axes: N samples, D features, K components (slots), C independent problems (classes), R restarts,
+T k-means++ candidates per center.
 """
 
 from __future__ import annotations
@@ -80,6 +84,7 @@ MODE_KS = {"code": range(3, 10), "paper": range(3, 12)}
 """The k each of ODMO's rules tries."""
 
 _RATIO = 0.95  # ODMO's silhouette ratio, in both rules
+_KMEANS_INIT = (300, 1e-4)  # max_iter and tol of the KMeans that sklearn's GaussianMixture starts from
 
 
 class KMeans(NamedTuple):
@@ -108,8 +113,8 @@ class Modes(NamedTuple):
 
 
 class ModesBatch(NamedTuple):
-    """C problems' modes; ``gmm`` is padded to ``max(ks)`` components (weight 0, mean 0, identity
-    covariance), which every function over a mixture treats as absent."""
+    """C problems' modes. ``gmm`` has ``max(ks)`` component slots; those past a problem's k have weight 0
+    (mean 0, covariance ``reg_covar · I``), which every function over a mixture treats as absent."""
 
     k: np.ndarray  # [C] int
     gmm: GaussianMixture  # weights [C, K], means [C, K, D], covariances [C, K, D, D], the rest [C]
@@ -182,6 +187,11 @@ def _check_features(x: jax.Array, gmm: GaussianMixture) -> jax.Array:
 # --------------------------------------------------------------------------------------------- k-means
 
 
+def _n_trials(k: int) -> int:
+    """sklearn's k-means++ candidates per center."""
+    return 2 + int(math.log(k))
+
+
 def _weighted_choice(u: jax.Array, weights: jax.Array) -> jax.Array:
     """Indices drawn with probability ∝ ``weights [N]`` (≥ 0, not all 0) for uniforms ``u [...]`` in
     [0, 1), by inverse CDF as sklearn.
@@ -194,11 +204,15 @@ def _weighted_choice(u: jax.Array, weights: jax.Array) -> jax.Array:
     return jnp.minimum(jnp.searchsorted(cumulative, targets, method="compare_all"), weights.shape[0] - 1)
 
 
-def _plusplus(key: jax.Array, x: jax.Array, w: jax.Array, k: int) -> jax.Array:
-    """Greedy k-means++ seeds of ``x [N, D]`` with sample weights ``w [N]`` -> ``[K, D]``."""
-    n_trials = 2 + int(math.log(k))
-    # One draw for all centers: u[0, 0] picks the first, u[c] the candidates of center c.
-    u = jax.random.uniform(key, (k, n_trials), x.dtype)
+def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array, n_active) -> jax.Array:
+    """Greedy k-means++ seeds of ``x [N, D]`` with sample weights ``w [N]`` -> ``[K, D]``.
+
+    ``u [K, T]`` uniforms: ``u[0, 0]`` picks the first center, ``u[c]`` the candidates of center c. Only
+    the first ``n_active`` (traced) centers are seeded, each with ``2 + ⌊ln n_active⌋ ≤ T`` candidates;
+    the rest stay 0.
+    """
+    k, t = u.shape
+    trials = jnp.asarray([_n_trials(max(j, 1)) for j in range(k + 1)])[n_active]
     first = x[_weighted_choice(u[0, 0], w)]
     closest = jnp.sum((x - first) ** 2, axis=-1)
 
@@ -208,8 +222,10 @@ def _plusplus(key: jax.Array, x: jax.Array, w: jax.Array, k: int) -> jax.Array:
         p = jnp.where(closest @ w > 0, w * closest, w)
         candidates = x[_weighted_choice(u[c], p)]  # [T, D]
         dist = jnp.minimum(closest, jnp.sum((candidates[:, None] - x[None]) ** 2, axis=-1))  # [T, N]
-        best = jnp.argmin(dist @ w)
-        return centers.at[c].set(candidates[best]), dist[best]
+        best = jnp.argmin(jnp.where(jnp.arange(t) < trials, dist @ w, jnp.inf))
+        seed = c < n_active
+        return (centers.at[c].set(jnp.where(seed, candidates[best], centers[c])),
+                jnp.where(seed, dist[best], closest))
 
     centers = jnp.zeros((k, x.shape[1]), x.dtype).at[0].set(first)
     return jax.lax.fori_loop(1, k, add_center, (centers, closest))[0]
@@ -220,23 +236,25 @@ def kmeans_plusplus(key: jax.Array, x: jax.Array, k: int, mask: jax.Array | None
     candidates per center by the inertia it leaves), drawn only from valid rows of ``mask [N]``."""
     k = _check_k(k)
     x, mask = _check_data(x, mask, k)
-    return _plusplus(key, x, mask.astype(x.dtype), k)
+    u = jax.random.uniform(key, (k, _n_trials(k)), x.dtype)
+    return _plusplus(u, x, mask.astype(x.dtype), k)
 
 
-def _assign(x: jax.Array, centers: jax.Array) -> jax.Array:
-    """Nearest center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
+def _assign(x: jax.Array, centers: jax.Array, active: jax.Array) -> jax.Array:
+    """Nearest active center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
     scores = jnp.sum(centers**2, axis=-1) - 2.0 * jnp.matmul(x, centers.T, precision=_HIGHEST)
-    return jnp.argmin(scores, axis=-1).astype(jnp.int32)
+    return jnp.argmin(jnp.where(active, scores, jnp.inf), axis=-1).astype(jnp.int32)
 
 
-def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array) -> jax.Array:
+def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array,
+                    active: jax.Array) -> jax.Array:
     """Lloyd's center update with sklearn's relocation of empty clusters -> new centers ``[K, D]``."""
     k = centers.shape[0]
     onehot = jax.nn.one_hot(labels, k, dtype=x.dtype) * w[:, None]
     mass, sums = onehot.sum(axis=0), jnp.matmul(onehot.T, x, precision=_HIGHEST)
     # The j-th empty cluster takes the j-th valid sample farthest from its own center, which leaves its
     # cluster (sklearn's _relocate_empty_clusters_dense).
-    empty = mass == 0
+    empty = (mass == 0) & active
     spread = jnp.where(w > 0, jnp.sum((x - centers[labels]) ** 2, axis=-1), -1.0)
     donors = jax.lax.top_k(spread, k)[1][jnp.cumsum(empty) - 1]  # [K], meaningful where empty
     moved = jnp.where(empty, w[donors], 0.0)
@@ -248,21 +266,36 @@ def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.
     return jnp.where(mass[:, None] > 0, sums / jnp.where(mass > 0, mass, 1.0)[:, None], sums)
 
 
-def _lloyd(key, x, w, k, max_iter, tol) -> KMeans:
-    """One k-means restart on centred ``x [N, D]``, weights ``w [N]``; ``tol`` absolute (center shift²)."""
+def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, n_active, max_iter, tol) -> KMeans:
+    """One k-means restart on centred ``x [N, D]``, weights ``w [N]``, seeds from ``u [K, T]``; ``tol`` is
+    absolute (summed squared center shift)."""
+    active = jnp.arange(u.shape[0]) < n_active
 
     def step(state):
         centers, labels_old, it, _ = state
-        labels = _assign(x, centers)
-        new = _update_centers(x, w, centers, labels)
+        labels = _assign(x, centers, active)
+        new = _update_centers(x, w, centers, labels, active)
         unchanged = jnp.all((labels == labels_old) | (w == 0))
         return new, labels, it + 1, unchanged | (jnp.sum((new - centers) ** 2) <= tol)
 
-    state = (_plusplus(key, x, w, k), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0), jnp.bool_(False))
+    state = (_plusplus(u, x, w, n_active), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0),
+             jnp.bool_(False))
     centers, _, n_iter, _ = jax.lax.while_loop(lambda s: ~s[3] & (s[2] < max_iter), step, state)
-    labels = _assign(x, centers)
+    labels = _assign(x, centers, active)
     inertia = jnp.sum(w * jnp.sum((x - centers[labels]) ** 2, axis=-1))
     return KMeans(centers, jnp.where(w > 0, labels, -1), inertia, n_iter)
+
+
+def _kmeans(u: jax.Array, x: jax.Array, w: jax.Array, n_active, max_iter, tol) -> KMeans:
+    """Best of the restarts ``u [R, K, T]`` of k-means on ``x [N, D]`` (masked rows 0, weights ``w``)."""
+    n_valid = w.sum()
+    mean = (w @ x) / n_valid
+    centred = (x - mean) * w[:, None]
+    tol = tol * jnp.mean((w @ centred**2) / n_valid)
+    fits = jax.vmap(lambda u_r: _lloyd(u_r, centred, w, n_active, max_iter, tol))(u)
+    best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
+    active = jnp.arange(u.shape[1]) < n_active
+    return best._replace(centers=jnp.where(active[:, None], best.centers + mean, 0.0))
 
 
 def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = None, n_init: int = 1,
@@ -270,7 +303,7 @@ def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = Non
     """Lloyd's k-means of ``x [N, D]`` from k-means++ seeds, best of ``n_init`` (static) restarts.
 
     Args:
-      key: PRNG key; restart i uses ``fold_in(key, i)``.
+      key: PRNG key; restart i reads row i of ``uniform(key, [n_init, K, 2 + ⌊ln K⌋])``.
       x: ``[N, D]`` samples.
       k: static number of clusters K.
       mask: ``[N]`` bool, True for the samples to cluster (default all).
@@ -283,15 +316,8 @@ def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = Non
     """
     k = _check_k(k)
     x, mask = _check_data(x, mask, k)
-    w = mask.astype(x.dtype)
-    mean = (w @ x) / w.sum()
-    centred = (x - mean) * w[:, None]
-    tol_abs = tol * jnp.mean((w @ centred**2) / w.sum())
-    fits = jax.vmap(lambda i: _lloyd(jax.random.fold_in(key, i), centred, w, k, max_iter, tol_abs))(
-        jnp.arange(n_init)
-    )
-    best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
-    return best._replace(centers=best.centers + mean)
+    u = jax.random.uniform(key, (n_init, k, _n_trials(k)), x.dtype)
+    return _kmeans(u, x, mask.astype(x.dtype), k, max_iter, tol)
 
 
 # ---------------------------------------------------------------------------------- Gaussian mixtures
@@ -313,22 +339,24 @@ def _log_gaussians(x: jax.Array, means: jax.Array, prec_chol: jax.Array) -> jax.
 
 
 def _weighted_log_prob(weights, means, prec_chol, x) -> jax.Array:
+    """``log w_k + log N(x_n | μ_k, Σ_k)`` -> ``[N, K]``; ``-inf`` for a component of weight 0."""
     return _log_gaussians(x, means, prec_chol) + jnp.log(weights)
 
 
-def _m_step(x: jax.Array, resp: jax.Array, reg_covar) -> tuple[jax.Array, jax.Array, jax.Array]:
+def _m_step(x: jax.Array, resp: jax.Array, reg_covar, active: jax.Array):
     """sklearn's M-step from responsibilities ``resp [N, K]`` (0 on masked rows) -> weights, means,
-    covariances (with ``reg_covar`` on the diagonal)."""
-    nk = resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps
-    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / nk[:, None]
+    covariances (``reg_covar`` on the diagonal); an inactive component gets weight 0 and mean 0."""
+    nk = jnp.where(active, resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps, 0.0)
+    safe = jnp.where(active, nk, 1.0)
+    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / safe[:, None]
     diff = x[None] - means[:, None]  # [K, N, D]
-    cov = jnp.einsum("nk,knd,kne->kde", resp, diff, diff, precision=_HIGHEST) / nk[:, None, None]
+    cov = jnp.einsum("nk,knd,kne->kde", resp, diff, diff, precision=_HIGHEST) / safe[:, None, None]
     cov = cov + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
     return nk / nk.sum(), means, cov
 
 
-def _em(x, mask, weights, means, covariances, max_iter, tol, reg_covar) -> GaussianMixture:
-    w = mask.astype(x.dtype)
+def _em(x, w, weights, means, covariances, active, max_iter, tol, reg_covar) -> GaussianMixture:
+    """EM on ``x [N, D]`` (masked rows 0, weights ``w [N]``) from the given parameters."""
     n_valid = w.sum()
 
     def step(state):
@@ -336,7 +364,7 @@ def _em(x, mask, weights, means, covariances, max_iter, tol, reg_covar) -> Gauss
         log_prob = _weighted_log_prob(weights, means, prec_chol, x)
         norm = jax.nn.logsumexp(log_prob, axis=-1)
         new_bound = (w @ norm) / n_valid
-        weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar)
+        weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar, active)
         converged = jnp.abs(new_bound - lower_bound) < tol
         return weights, means, cov, _precision_cholesky(cov), new_bound, it + 1, converged
 
@@ -369,17 +397,49 @@ def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.
     x, mask = _check_data(x, mask)
     if x.shape[1] != means.shape[1]:
         raise ValueError(f"x: expected [N, D] = [N, {means.shape[1]}], got {tuple(x.shape)}")
-    return _em(x, mask, weights, means, covariances, max_iter, tol, reg_covar)
+    active = jnp.ones(weights.shape, bool)
+    return _em(x, mask.astype(x.dtype), weights, means, covariances, active, max_iter, tol, reg_covar)
+
+
+def _gmm(u, x, w, n_active, init, max_iter, tol, reg_covar, kmeans_max_iter, kmeans_tol) -> GaussianMixture:
+    """Best of the restarts ``u`` (``[R, K, T]`` k-means++ uniforms for ``init="kmeans"``, ``[R, N, K]``
+    responsibilities for ``"random"``) of EM on ``x [N, D]`` with the first ``n_active`` of K slots."""
+    k = u.shape[-1] if init == "random" else u.shape[1]
+    active = jnp.arange(k) < n_active
+
+    def restart(u_r):
+        if init == "kmeans":
+            labels = _kmeans(u_r[None], x, w, n_active, kmeans_max_iter, kmeans_tol).labels
+            resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
+        else:
+            resp = u_r * active
+            resp = resp / resp.sum(axis=1, keepdims=True) * w[:, None]
+        return _em(x, w, *_m_step(x, resp, reg_covar, active), active, max_iter, tol, reg_covar)
+
+    fits = jax.vmap(restart)(u)
+    best = jnp.argmax(jnp.where(jnp.isnan(fits.lower_bound), -jnp.inf, fits.lower_bound))
+    return jax.tree.map(lambda a: a[best], fits)
+
+
+def _restart_shape(init: str, n_init: int, n: int, k: int) -> tuple[int, ...]:
+    """The uniforms one fit draws: k-means++ ``[R, K, T]`` or random responsibilities ``[R, N, K]``."""
+    return (n_init, k, _n_trials(k)) if init == "kmeans" else (n_init, n, k)
+
+
+def _check_init(init: str) -> None:
+    if init not in ("kmeans", "random"):
+        raise ValueError(f"init: expected 'kmeans' or 'random', got {init!r}")
 
 
 def fit_gmm(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = None, n_init: int = 1,
             max_iter: int = 100, tol: float = 1e-3, reg_covar: float = 1e-6, init: str = "kmeans",
-            kmeans_max_iter: int = 300, kmeans_tol: float = 1e-4) -> GaussianMixture:
+            kmeans_max_iter: int = _KMEANS_INIT[0], kmeans_tol: float = _KMEANS_INIT[1]) -> GaussianMixture:
     """Full-covariance Gaussian mixture of ``x [N, D]`` with K (static) components, best of ``n_init``
     (static) restarts by lower bound: sklearn's ``GaussianMixture(k, covariance_type="full", ...)``.
 
     Args:
-      key: PRNG key; restart i uses ``fold_in(key, i)``.
+      key: PRNG key; restart i reads row i of one uniform draw (``[n_init, K, 2 + ⌊ln K⌋]`` k-means++
+        uniforms, or ``[n_init, N, K]`` responsibilities for ``init="random"``).
       x: ``[N, D]``; mask: ``[N]`` bool, True for the samples to fit (default all).
       k: static number of components.
       n_init, max_iter, tol, reg_covar: as sklearn (see :func:`gmm_em`).
@@ -388,24 +448,10 @@ def fit_gmm(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = No
         normalised per sample, then an M-step).
     """
     k = _check_k(k)
-    if init not in ("kmeans", "random"):
-        raise ValueError(f"init: expected 'kmeans' or 'random', got {init!r}")
+    _check_init(init)
     x, mask = _check_data(x, mask, k)
-    w = mask.astype(x.dtype)
-
-    def restart(i):
-        key_i = jax.random.fold_in(key, i)
-        if init == "kmeans":
-            labels = kmeans(key_i, x, k, mask=mask, max_iter=kmeans_max_iter, tol=kmeans_tol).labels
-            resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
-        else:
-            resp = jax.random.uniform(key_i, (x.shape[0], k), x.dtype)
-            resp = resp / resp.sum(axis=1, keepdims=True) * w[:, None]
-        return _em(x, mask, *_m_step(x, resp, reg_covar), max_iter, tol, reg_covar)
-
-    fits = jax.vmap(restart)(jnp.arange(n_init))
-    best = jnp.argmax(jnp.where(jnp.isnan(fits.lower_bound), -jnp.inf, fits.lower_bound))
-    return jax.tree.map(lambda a: a[best], fits)
+    u = jax.random.uniform(key, _restart_shape(init, n_init, x.shape[0], k), x.dtype)
+    return _gmm(u, x, mask.astype(x.dtype), k, init, max_iter, tol, reg_covar, kmeans_max_iter, kmeans_tol)
 
 
 def _mixture_log_prob(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
@@ -471,20 +517,7 @@ def sample_components(key: jax.Array, gmm: GaussianMixture, counts: jax.Array,
 # ------------------------------------------------------------------------------------------ silhouette
 
 
-def silhouette_score(x: jax.Array, labels: jax.Array, k: int, *, mask: jax.Array | None = None) -> jax.Array:
-    """Mean silhouette of the valid samples of ``x [N, D]`` under ``labels [N]`` in ``[0, k)`` -> ``[]``,
-    as ``sklearn.metrics.silhouette_score`` with Euclidean distances.
-
-    ``k`` is static (labels ≥ k are an error, unused labels are ignored). NaN when a valid label is out of
-    range or the number of non-empty clusters is outside ``[2, n_valid − 1]`` (sklearn raises). Labels of
-    masked rows are ignored.
-    """
-    k = _check_k(k)
-    x, mask = _check_data(x, mask)
-    labels = jnp.asarray(labels)
-    if labels.shape != (x.shape[0],) or not jnp.issubdtype(labels.dtype, jnp.integer):
-        raise ValueError(f"labels: expected integer [N] = ({x.shape[0]},), got {labels.dtype} "
-                         f"{tuple(labels.shape)}")
+def _silhouette(x: jax.Array, mask: jax.Array, labels: jax.Array, k: int) -> jax.Array:
     w = mask.astype(x.dtype)
     n_valid = w.sum()
     centred = (x - (w @ x) / n_valid) * w[:, None]
@@ -511,14 +544,24 @@ def silhouette_score(x: jax.Array, labels: jax.Array, k: int, *, mask: jax.Array
     return jnp.where(in_range & (used >= 2) & (used <= n_valid - 1), score, jnp.nan)
 
 
+def silhouette_score(x: jax.Array, labels: jax.Array, k: int, *, mask: jax.Array | None = None) -> jax.Array:
+    """Mean silhouette of the valid samples of ``x [N, D]`` under ``labels [N]`` in ``[0, k)`` -> ``[]``,
+    as ``sklearn.metrics.silhouette_score`` with Euclidean distances.
+
+    ``k`` is static (labels ≥ k are an error, unused labels are ignored). NaN when a valid label is out of
+    range or the number of non-empty clusters is outside ``[2, n_valid − 1]`` (sklearn raises). Labels of
+    masked rows are ignored.
+    """
+    k = _check_k(k)
+    x, mask = _check_data(x, mask)
+    labels = jnp.asarray(labels)
+    if labels.shape != (x.shape[0],) or not jnp.issubdtype(labels.dtype, jnp.integer):
+        raise ValueError(f"labels: expected integer [N] = ({x.shape[0]},), got {labels.dtype} "
+                         f"{tuple(labels.shape)}")
+    return _silhouette(x, mask, labels, k)
+
+
 # ------------------------------------------------------------------------------------ ODMO's adaptive K
-
-
-def _first_break(s: Sequence[float], rule: str) -> int | None:
-    """Index into ``s`` of the k a rule chooses when it breaks, None when it never does."""
-    if rule == "code":
-        return next((j - 1 for j in range(1, len(s)) if s[j] < _RATIO * s[j - 1]), None)
-    return next((i for i in range(len(s) - 1) if s[i] > _RATIO * s[i + 1]), None)
 
 
 def _check_rule(rule: str) -> None:
@@ -546,32 +589,11 @@ def choose_k(silhouettes: Mapping[int, float] | Sequence[float], ks: Sequence[in
             raise ValueError(f"ks: expected one k per silhouette ({len(s)}), got {ks!r}")
     if not s:
         raise ValueError("silhouettes: expected at least one value, got none")
-    index = _first_break(s, rule)
-    return int(ks[-1 if index is None else index])
-
-
-@functools.partial(jax.jit, static_argnames=("k", "n_init", "init"))
-def _fit_and_score(keys, x, mask, k, n_init, max_iter, tol, reg_covar, init):
-    """For each of C problems ``x [C, N, D]``, ``mask [C, N]``: the GMM with k components, its labels and
-    their silhouette."""
-
-    def one(key, x, mask):
-        gmm = fit_gmm(jax.random.fold_in(key, k), x, k, mask=mask, n_init=n_init, max_iter=max_iter, tol=tol,
-                      reg_covar=reg_covar, init=init)
-        labels = gmm_predict(gmm, x, mask)
-        return gmm, labels, silhouette_score(x, labels, k, mask=mask)
-
-    return jax.vmap(one)(keys, x, mask)
-
-
-def _pad(gmm: GaussianMixture, k_max: int) -> GaussianMixture:
-    """Pad ``[C, k, ...]`` mixtures to ``k_max`` components of weight 0, mean 0, identity covariance."""
-    c, k, d = gmm.means.shape
-    extra = k_max - k
-    eye = jnp.broadcast_to(jnp.eye(d, dtype=gmm.covariances.dtype), (c, extra, d, d))
-    return gmm._replace(weights=jnp.pad(gmm.weights, ((0, 0), (0, extra))),
-                        means=jnp.pad(gmm.means, ((0, 0), (0, extra), (0, 0))),
-                        covariances=jnp.concatenate([gmm.covariances, eye], axis=1))
+    if rule == "code":
+        index = next((j - 1 for j in range(1, len(s)) if s[j] < _RATIO * s[j - 1]), len(s) - 1)
+    else:
+        index = next((i for i in range(len(s) - 1) if s[i] > _RATIO * s[i + 1]), len(s) - 1)
+    return int(ks[index])
 
 
 def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
@@ -582,27 +604,35 @@ def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
     return ks
 
 
-def _discover(class_keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:
-    c, n, _ = x.shape
-    if mask is None:
-        mask = jnp.ones((c, n), bool)
-    mask = jnp.asarray(mask)
-    if mask.shape != (c, n) or mask.dtype != bool:
-        raise ValueError(f"mask: expected bool [C, N] = ({c}, {n}), got {mask.dtype} {tuple(mask.shape)}")
-    if _has_value(mask):
-        n_valid = np.asarray(mask.sum(axis=1))
-        if (short := np.flatnonzero(n_valid < ks[-1])).size:
-            raise ValueError(f"mask: class {short[0]} has {n_valid[short[0]]} valid samples, fewer than "
-                             f"k = {ks[-1]} (the largest of ks)")
-    fits = [_fit_and_score(class_keys, x, mask, k=k, n_init=n_init, max_iter=max_iter, tol=tol,
-                           reg_covar=reg_covar, init=init) for k in ks]
-    silhouettes = np.stack([np.asarray(score) for _, _, score in fits], axis=1)  # [C, len(ks)]
-    chosen = np.array([choose_k(row, ks, rule=rule) for row in silhouettes])
-    index = jnp.asarray(np.searchsorted(ks, chosen))
-    classes = jnp.arange(c)
-    gmm = jax.tree.map(lambda *a: jnp.stack(a)[index, classes], *[_pad(g, ks[-1]) for g, _, _ in fits])
-    labels = jnp.stack([labels for _, labels, _ in fits])[index, classes]
-    return ModesBatch(chosen, gmm, labels, silhouettes, ks)
+@functools.partial(jax.jit, static_argnames=("ks", "n_init", "init"))
+def _fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init):
+    """For C problems ``x [C, N, D]``, ``mask [C, N]`` and every k of ``ks``: the GMM (``max(ks)`` slots,
+    the first k active), its labels and their silhouette -> leaves ``[C, len(ks), ...]``."""
+    k_max = ks[-1]
+
+    def one_problem(key, x, mask):
+        w = mask.astype(x.dtype)
+        # One draw for every k and restart: each random-bits call costs seconds of compilation on a CPU.
+        u = jax.random.uniform(key, (len(ks), *_restart_shape(init, n_init, x.shape[0], k_max)), x.dtype)
+
+        def one_k(u_k, n_active):
+            gmm = _gmm(u_k, x, w, n_active, init, max_iter, tol, reg_covar, *_KMEANS_INIT)
+            labels = jnp.where(mask, jnp.argmax(_mixture_log_prob(gmm, x), axis=-1).astype(jnp.int32), -1)
+            return gmm, labels, _silhouette(x, mask, labels, k_max)
+
+        return jax.vmap(one_k)(u, jnp.asarray(ks))
+
+    return jax.vmap(one_problem)(keys, x, mask)
+
+
+def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:
+    """The modes of ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` (validated) with problem keys ``[C]``."""
+    gmm, labels, scores = _fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init)
+    silhouettes = np.asarray(scores, np.float64)
+    index = np.array([ks.index(choose_k(row, ks, rule=rule)) for row in silhouettes])
+    problems = np.arange(x.shape[0])
+    pick = lambda a: a[problems, index]  # noqa: E731
+    return ModesBatch(np.asarray(ks)[index], jax.tree.map(pick, gmm), pick(labels), silhouettes, ks)
 
 
 def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None = None, *,
@@ -618,15 +648,30 @@ def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None 
       rule: ``"code"`` or ``"paper"`` (:func:`choose_k`).
       n_init, max_iter, tol, reg_covar, init: the GMM fits (:func:`fit_gmm`; ODMO: k-means init, 5).
 
-    Every k is one jitted call fitting all C problems (vmapped, its GMM keyed ``fold_in(key_c, k)``);
-    the choice of k runs on the host. Raises ValueError when a problem has fewer valid samples than the
-    largest k. Returns a :class:`ModesBatch` (mixtures padded to ``max(ks)`` components).
+    One jitted call fits every k of every problem (problems, ks and restarts vmapped; the fit with k runs
+    in ``max(ks)`` slots, the first k active) and scores each fit's predicted labels; the choice of k runs
+    on the host. The fits are keyed per problem and k from the problem's key, so they differ in their
+    draws (not in distribution) from :func:`fit_gmm` calls. Raises ValueError when a problem has fewer
+    valid samples than the largest k. Returns a :class:`ModesBatch`.
     """
+    ks = _resolve_ks(ks, rule)
+    _check_init(init)
     x = jnp.asarray(x)
     if x.ndim != 3:
         raise ValueError(f"x: expected [C, N, D], got {tuple(x.shape)}")
-    return _discover(jax.random.split(key, x.shape[0]), x, mask, _resolve_ks(ks, rule), rule, n_init, max_iter,
-                     tol, reg_covar, init)
+    c, n, _ = x.shape
+    if ks[-1] > n:
+        raise ValueError(f"ks: up to k = {ks[-1]} components but x has only N = {n} samples")
+    mask = jnp.ones((c, n), bool) if mask is None else jnp.asarray(mask)
+    if mask.shape != (c, n) or mask.dtype != bool:
+        raise ValueError(f"mask: expected bool [C, N] = ({c}, {n}), got {mask.dtype} {tuple(mask.shape)}")
+    if _has_value(mask):
+        n_valid = np.asarray(mask.sum(axis=1))
+        if (short := np.flatnonzero(n_valid < ks[-1])).size:
+            raise ValueError(f"mask: problem {short[0]} has {n_valid[short[0]]} valid samples, fewer than "
+                             f"k = {ks[-1]} (the largest of ks)")
+    x = jnp.where(mask[..., None], x.astype(jnp.promote_types(x.dtype, jnp.float32)), 0.0)
+    return _discover(jax.random.split(key, c), x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init)
 
 
 def discover_modes(key: jax.Array, x: jax.Array, *, mask: jax.Array | None = None,
@@ -639,6 +684,7 @@ def discover_modes(key: jax.Array, x: jax.Array, *, mask: jax.Array | None = Non
     ``split(key, C)[c]``. Returns :class:`Modes` with the mixture at the chosen k (k components).
     """
     ks = _resolve_ks(ks, rule)
+    _check_init(init)
     x, mask = _check_data(x, mask, ks[-1])
     batch = _discover(key[None], x[None], mask[None], ks, rule, n_init, max_iter, tol, reg_covar, init)
     k = int(batch.k[0])

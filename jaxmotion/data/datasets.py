@@ -13,7 +13,7 @@ EMBEDDED_PREFIX = "synth-"
 
 #: The paper datasets' sizes, as the papers give them (FACTS.md §1): ``(classes, training clips)``. Their
 #: embedded stand-ins have the same; trainers size the paper profiles (epochs -> steps) from them.
-PAPER_SIZES = {"NTU-13": (13, 3900), "UESTC": (40, 10_650), "HumanAct12": (12, 1200)}
+PAPER_SIZES = {"NTU-13": (13, 3900), "UESTC": (40, 10_650), "HumanAct12": (12, 1200), "MoCap": (7, 970)}
 
 
 def dataset_names() -> dict[str, tuple[str, ...]]:

@@ -8,7 +8,9 @@ and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part o
 * ACTOR (:meth:`ProtocolConfig.actor`): 20 repetitions; each shuffles the real set and keeps up to 3 000
   clips, and generates one motion per kept clip, with its label, 60 frames long.
 * ODMO (:meth:`ProtocolConfig.odmo`): 10 repetitions of N generated motions per class (400 CMU, 250
-  HumanAct12, 200 UESTC) against N class-balanced real windows per class.
+  HumanAct12, 200 UESTC) against N class-balanced real windows per class, and n-APD (``n_apd``: each
+  set's per-class APD over that of the repetition's reference real draw, ×100; the real windows are in
+  the recogniser's frame, canonical or not, and generated motions as the sampler gives them).
 * ActFormer (:meth:`ProtocolConfig.actformer`): 100 generated motions per class; it reports one set, no
   repetitions (``repetitions=1``).
 
@@ -41,6 +43,7 @@ from jax.sharding import Mesh
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks
+from jaxmotion.metrics.apd import n_apd
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.metrics.diversity import diversity, multimodality
 from jaxmotion.metrics.fid import fid
@@ -56,7 +59,8 @@ class ProtocolConfig:
 
     ``sampling``: ``per_real_clip`` (one generated motion per real clip, up to ``max_real`` clips) or
     ``per_class`` (``per_class`` generated motions and real windows per class). ``duration``: frames of
-    generated motions and real windows. ``chunk``: sequences generated per sampler call.
+    generated motions and real windows. ``chunk``: sequences generated per sampler call. ``n_apd``: also
+    score ODMO's n-APD (:func:`jaxmotion.metrics.apd.n_apd`) against the reference real draw.
     """
 
     repetitions: int = 20
@@ -67,6 +71,7 @@ class ProtocolConfig:
     diversity_pairs: int = 200
     multimodality_pairs: int = 20
     chunk: int = 500
+    n_apd: bool = False
 
     def __post_init__(self):
         for name in ("repetitions", "max_real", "per_class", "duration", "diversity_pairs", "multimodality_pairs",
@@ -80,7 +85,7 @@ class ProtocolConfig:
 
     @classmethod
     def odmo(cls, per_class: int) -> ProtocolConfig:
-        return cls(repetitions=10, sampling="per_class", per_class=per_class)
+        return cls(repetitions=10, sampling="per_class", per_class=per_class, n_apd=True)
 
     @classmethod
     def actformer(cls) -> ProtocolConfig:
@@ -116,9 +121,10 @@ def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: in
 
 
 def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,
-          references: Mapping[str, jax.Array], config: ProtocolConfig) -> dict[str, float]:
+          references: Mapping[str, jax.Array], config: ProtocolConfig, real: Motions | None = None) -> dict[str, float]:
     """The metrics of one set of motions made for ``actions [N]``: accuracy, ``FID_<name>`` against each
-    named reference feature set ``[M, D]``, diversity, multimodality."""
+    named reference feature set ``[M, D]``, diversity, multimodality, and with ``config.n_apd`` the n-APD
+    against the ``real`` motions (a batch dict with ``joints`` and ``actions``)."""
     logits, features = recognizer(motions)
     actions = jnp.asarray(actions)
     confusion = confusion_matrix(actions, jnp.argmax(logits, -1), recognizer.num_classes)
@@ -129,6 +135,11 @@ def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.
     out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
     out["multimodality"] = float(multimodality(k_mm, features, actions, recognizer.num_classes,
                                                config.multimodality_pairs))
+    if config.n_apd:
+        if real is None:
+            raise ValueError("real: n-APD needs the real motions it normalises by")
+        out["n_apd"] = float(n_apd(jnp.asarray(motions["joints"]), actions, jnp.asarray(real["joints"]),
+                                   jnp.asarray(real["actions"]), recognizer.num_classes))
     return out
 
 
@@ -183,7 +194,8 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
             sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
                                    config.chunk, mesh), actions)
         for i, (name, (motions, labels)) in enumerate(sets.items()):
-            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, features, config)
+            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, features, config,
+                            draws[reference_name])
             for metric, value in metrics.items():
                 rows[name].setdefault(metric, []).append(value)
     return rows

@@ -2,7 +2,8 @@
 
 A **recipe** is anything with ``fit(data, key, workdir, **loop_options) -> params`` and
 ``sampler(params, skeleton) -> Sampler`` (:class:`Recipe`); each paper's training config is one
-(:class:`jaxmotion.train.actor.ActorTraining`, :class:`jaxmotion.train.a2m.A2MTraining`). A table is a
+(:class:`jaxmotion.train.actor.ActorTraining`, :class:`jaxmotion.train.a2m.A2MTraining`,
+:class:`jaxmotion.train.odmo.ODMOTraining`). A table is a
 mapping of row names to recipes: :func:`fit_rows` trains every row from the same key (same data order, and
 the same initialisation where shapes agree, so rows differ only by what the table varies) in its own folder
 ``<workdir>/<slug(row)>/``, where it resumes from its checkpoints; :func:`table_evaluator` readies the dataset's evaluator (checking
@@ -51,6 +52,9 @@ class Recipe(Protocol):
 #: The protocol's metric names -> ACTOR's columns, in the paper's order (accuracy shown in %).
 ACTOR_COLUMNS = {"FID_train": "FID_tr", "FID_test": "FID_test", "accuracy": "Acc. (%)", "diversity": "Div.",
                  "multimodality": "Multimod."}
+#: ... and to ODMO's (Tables 1-2; HumanAct12's and MoCap's "FID" is against the training set, FID_tr here).
+ODMO_COLUMNS = {"accuracy": "Acc", "FID_train": "FID_tr", "FID_test": "FID_test", "diversity": "Diversity",
+                "multimodality": "MModality", "n_apd": "n-APD"}
 PERCENT = frozenset({"accuracy"})
 
 
@@ -75,6 +79,7 @@ STAND_INS = {s.label: s for s in (
     StandIn("NTU-13", "synth-ntu13", "synth-ntu13/gru", False),
     StandIn("UESTC", "synth-uestc", "synth-uestc/stgcn", True),
     StandIn("HumanAct12", "synth-humanact12", "synth-humanact12/gru", False),
+    StandIn("MoCap", "synth-cmu", "synth-cmu/gru", False),
 )}
 
 
@@ -114,12 +119,22 @@ def slug(name: str) -> str:
 
 def fit_rows(rows: Mapping[str, Recipe], data: MotionDataset, key: jax.Array, workdir: str | Path,
              **loop_options) -> dict[str, Sampler]:
-    """Train every row from the same ``key`` in ``<workdir>/<slug(row)>/``; return their samplers."""
+    """Train every row from the same ``key`` in ``<workdir>/<slug(row)>/``; return their samplers. Rows whose
+    recipes share what determines the fit (a recipe's ``training`` attribute, else the recipe itself: ODMO
+    and ODMO_conv differ only in their sampler) train once, in the first such row's folder."""
     folders = [slug(name) for name in rows]
     if len(set(folders)) != len(folders):
         raise ValueError(f"rows: names must give distinct folder names, got {list(rows)}")
-    return {name: recipe.sampler(recipe.fit(data, key, Path(workdir) / folder, **loop_options), data.skeleton)
-            for (name, recipe), folder in zip(rows.items(), folders)}
+    fitted: list[tuple[Any, Any]] = []  # (what determines a fit, its result)
+    samplers = {}
+    for (name, recipe), folder in zip(rows.items(), folders):
+        what = getattr(recipe, "training", recipe)
+        params = next((result for known, result in fitted if known == what), None)
+        if params is None:
+            params = recipe.fit(data, key, Path(workdir) / folder, **loop_options)
+            fitted.append((what, params))
+        samplers[name] = recipe.sampler(params, data.skeleton)
+    return samplers
 
 
 def table_evaluator(table: TableDataset, real: Mapping[str, MotionDataset], data_root: str | None = None) -> Recognizer:
@@ -207,18 +222,19 @@ SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, max_real=40, chunk=40)
 
 
 def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CPU_PROTOCOL,
-                  paper_protocol: ProtocolConfig = ProtocolConfig.actor()) -> TableDataset:
+                  paper_protocol: ProtocolConfig = ProtocolConfig.actor(), evaluator: str | None = None,
+                  smoke_protocol: ProtocolConfig = SMOKE_PROTOCOL) -> TableDataset:
     """The embedded stand-in of the paper dataset ``label`` (a key of :data:`STAND_INS`) in ``profile``:
-    its standard evaluator in that profile; smoke: 80 clips and :data:`SMOKE_PROTOCOL`; cpu: ``cpu_protocol``;
-    paper: ``paper_protocol``."""
+    its standard evaluator (or ``evaluator``, an evaluator name: ODMO scores UESTC with its own GRU) in that
+    profile; smoke: 80 clips and ``smoke_protocol``; cpu: ``cpu_protocol``; paper: ``paper_protocol``."""
     if label not in STAND_INS:
         raise ValueError(f"label: expected one of {sorted(STAND_INS)}, got {label!r}")
     stand_in = STAND_INS[label]
     data = TableData(stand_in.dataset, count=80 if profile == "smoke" else None, test_split=stand_in.test_split)
-    protocol = {"smoke": SMOKE_PROTOCOL, "cpu": cpu_protocol, "paper": paper_protocol}.get(profile)
+    protocol = {"smoke": smoke_protocol, "cpu": cpu_protocol, "paper": paper_protocol}.get(profile)
     if protocol is None:
         raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-    return TableDataset(label, data, evaluator_spec(stand_in.evaluator, profile), protocol)
+    return TableDataset(label, data, evaluator_spec(evaluator or stand_in.evaluator, profile), protocol)
 
 
 def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,

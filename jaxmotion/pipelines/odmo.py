@@ -36,6 +36,7 @@ Axes: N motions or codes, T frames, J joints, Z code, C classes, K mixture compo
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from typing import NamedTuple
 
@@ -48,6 +49,7 @@ from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, gather_windows, sample_sequences, sequence_weights
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.mixtures import (
+    MODE_KS,
     GaussianMixture,
     ModesBatch,
     discover_modes_batched,
@@ -127,13 +129,39 @@ def padded_classes(bank: CodeBank, num_classes: int) -> tuple[np.ndarray, np.nda
     return codes, mask
 
 
-def class_modes(bank: CodeBank, num_classes: int, *, rule: str = "code", ks=None, n_init: int = 5,
+def class_modes(bank: CodeBank, num_classes: int, *, rule: str = "code", n_init: int = 5,
                 key: jax.Array | None = None) -> ModesBatch:
     """Every class's modes, all classes fitted together: labels ``[C, M]`` follow :func:`padded_classes`'
-    rows (-1 on padding). ``key``: the GMMs' (default: seed 0, the code's ``random_state``)."""
+    rows (-1 on padding). ``key``: the GMMs' (default: seed 0, the code's ``random_state``).
+
+    A class with no more codes than the rule's largest k (tiny banks: smoke runs) cannot be scored by the
+    silhouette rule (the code fails there); it gets one mode, the Gaussian of its codes."""
     codes, mask = padded_classes(bank, num_classes)
     key = jax.random.key(GMM_SEED) if key is None else key
-    return discover_modes_batched(key, jnp.asarray(codes), jnp.asarray(mask), ks=ks, rule=rule, n_init=n_init)
+    ks = tuple(MODE_KS[rule])
+    counts = mask.sum(1)
+    fitted = np.flatnonzero(counts > ks[-1])
+    if fitted.size == num_classes:
+        return discover_modes_batched(key, jnp.asarray(codes), jnp.asarray(mask), rule=rule, n_init=n_init)
+    width = codes.shape[-1]
+    weights = np.zeros((num_classes, ks[-1]), np.float32)
+    means = np.zeros((num_classes, ks[-1], width), np.float32)
+    covariances = np.broadcast_to(np.eye(width, dtype=np.float32), (num_classes, ks[-1], width, width)).copy()
+    labels = np.where(mask, 0, -1).astype(np.int32)
+    chosen = np.ones(num_classes, np.int64)
+    silhouettes = np.full((num_classes, len(ks)), np.nan)
+    for c in np.flatnonzero(counts <= ks[-1]):
+        x = codes[c, mask[c]].astype(np.float64)
+        weights[c, 0], means[c, 0] = 1.0, x.mean(0)
+        covariances[c, 0] = np.cov(x.T, bias=True).reshape(width, width) + 1e-6 * np.eye(width)
+    if fitted.size:
+        part = discover_modes_batched(key, jnp.asarray(codes[fitted]), jnp.asarray(mask[fitted]), rule=rule,
+                                      n_init=n_init)
+        chosen[fitted], silhouettes[fitted], labels[fitted] = part.k, part.silhouettes, np.asarray(part.labels)
+        weights[fitted], means[fitted] = np.asarray(part.gmm.weights), np.asarray(part.gmm.means)
+        covariances[fitted] = np.asarray(part.gmm.covariances)
+    gmm = GaussianMixture(jnp.asarray(weights), jnp.asarray(means), jnp.asarray(covariances))
+    return ModesBatch(chosen, gmm, jnp.asarray(labels), silhouettes, ks)
 
 
 def bank_labels(bank: CodeBank, modes: ModesBatch) -> np.ndarray:
@@ -204,7 +232,7 @@ def sample_codes(key: jax.Array, actions: np.ndarray, mixtures: ModesBatch | Con
             counts = np.zeros(gmm.weights.shape[0], np.int64)
             counts[component] = len(rows)
         else:
-            gmm = jax.tree.map(lambda a: a[c], mixtures.gmm)
+            gmm = GaussianMixture(mixtures.gmm.weights[c], mixtures.gmm.means[c], mixtures.gmm.covariances[c])
             k = int(mixtures.k[c])
             labels = np.asarray(mixtures.labels[c])
             sizes = np.bincount(labels[labels >= 0], minlength=gmm.weights.shape[0])
@@ -271,7 +299,7 @@ def mixtures_for(trained, training) -> ModesBatch | Conventional:
     classes = training.model.num_classes
     if training.sampling == "conventional":
         return conventional_mixture(trained.bank, classes)
-    return class_modes(trained.bank, classes)
+    return class_modes(trained.bank, classes, rule=training.modes.rule, n_init=training.modes.n_init)
 
 
 def sample_motions(trained, training, key: jax.Array, actions, *, mixtures: ModesBatch | Conventional | None = None
@@ -313,7 +341,7 @@ def interpolate_modes(trained, training, action: int, mode_a: int, mode_b: int, 
                       modes: ModesBatch | None = None) -> dict[str, np.ndarray]:
     """Figure 3's strip: ``steps`` codes evenly spaced from mode ``mode_a``'s mean to ``mode_b``'s (of class
     ``action``), each with its nearest real end point, decoded; adds ``weights [steps]`` (0 at ``mode_a``)."""
-    modes = class_modes(trained.bank, training.model.num_classes) if modes is None else modes
+    modes = mixtures_for(trained, dataclasses.replace(training, sampling="modes")) if modes is None else modes
     k = int(modes.k[action])
     if not (0 <= mode_a < k and 0 <= mode_b < k):
         raise ValueError(f"mode_a, mode_b: class {action} has {k} modes (0..{k - 1}), got {mode_a}, {mode_b}")

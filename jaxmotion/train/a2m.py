@@ -24,6 +24,7 @@ from pathlib import Path
 import jax
 from flax.training.train_state import TrainState
 
+from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec
 from jaxmotion.geometry.skeletons import Skeleton
@@ -105,3 +106,19 @@ def a2m_step(config: A2MVAEConfig):
         return state.apply_gradients(grads=grads), metrics
 
     return step_fn
+
+
+def a2m_table_training(label: str, profile: str) -> A2MTraining:
+    """Action2Motion as a table row on the embedded stand-in of the paper dataset ``label`` (24 joints; ACTOR's
+    Table 3, ODMO's Table 1) in ``profile``: the released xyz configuration (paper), the same sizes for 900
+    iterations at batch 64 (cpu), a tiny model (smoke)."""
+    classes = PAPER_SIZES[label][0]
+    window = 100 if label == "MoCap" else 60
+    if profile == "smoke":
+        model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, hidden=8, latent=4, decoder_layers=1,
+                             time_counter=False)
+        return A2MTraining(model, LoopConfig(2, log_every=2, checkpoint_every=0), batch_size=8, window=window)
+    model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, time_counter=False)
+    if profile == "cpu":
+        return A2MTraining(model, LoopConfig(900, log_every=100, checkpoint_every=300), batch_size=64, window=window)
+    return A2MTraining(model, LoopConfig(50_000, log_every=100, checkpoint_every=5000), window=window)
