@@ -124,8 +124,10 @@ def test_end_point_trials_measure_the_distance_to_the_requested_end():
     assert result["motions"]["joints"].shape == (3 * 2 * 4, 12, 24, 3)
     final = result["motions"]["joints"][:, -1, 0]
     squared = np.square(final - result["motions"]["ends"]).sum(-1)
-    np.testing.assert_allclose(result["dist_e"], squared.reshape(3, 8).mean(1), rtol=1e-5)
-    np.testing.assert_allclose(result["end_error"], np.sqrt(squared).reshape(3, 8).mean(1), rtol=1e-5)
+    np.testing.assert_allclose(result["squared_error"], squared, rtol=1e-5)
+    np.testing.assert_allclose(result["dist_e"], squared.reshape(3, 8).mean(1).mean(), rtol=1e-5)
+    np.testing.assert_allclose(result["end_error"], np.sqrt(squared).reshape(3, 8).mean(1).mean(), rtol=1e-5)
+    assert 0.0 <= result["hit_rate"] <= 1.0
     ends = result["motions"]["ends"].reshape(3, 2, 4, 3)
     np.testing.assert_allclose(ends[:, :, 1] - ends[:, :, 0], ends[:, :, 3] - ends[:, :, 2], atol=1e-6)  # evenly spaced
 

@@ -6,6 +6,7 @@
 | :mod:`~jaxmotion.metrics.classification` | confusion matrix, accuracy, mean class recall | all |
 | :mod:`~jaxmotion.metrics.diversity` | diversity, multimodality (Action2Motion) | ACTOR, ODMO, Marionette |
 | :mod:`~jaxmotion.metrics.apd` | APD, n-APD, mode-homogeneity | ODMO |
+| :mod:`~jaxmotion.metrics.clustering` | adjusted Rand index of discovered against true modes | (ODMO, added) |
 | :mod:`~jaxmotion.metrics.transitions` | Δpose, Δvel, action- and motion-level qualification ratios | Marionette |
 | :mod:`~jaxmotion.metrics.trajectory` | ΔTraj, end-point error dist_e and hit rate | Marionette, ODMO |
 | :mod:`~jaxmotion.metrics.smoothness` | jitter (mean joint acceleration) | ACTOR (denoising) |
@@ -14,6 +15,7 @@ Mean ± 95% interval over repetitions: :func:`jaxmotion.evaluation.summarize`.
 """
 
 from jaxmotion.metrics.apd import apd, apd_per_class, mode_homogeneity, n_apd
+from jaxmotion.metrics.clustering import adjusted_rand_index
 from jaxmotion.metrics.classification import (
     accuracy,
     confusion_matrix,
@@ -45,7 +47,7 @@ from jaxmotion.metrics.transitions import (
 )
 
 __all__ = [
-    "accuracy", "action_qr", "aggregate_persons", "apd", "apd_per_class", "confusion_matrix", "diversity",
+    "accuracy", "action_qr", "adjusted_rand_index", "aggregate_persons", "apd", "apd_per_class", "confusion_matrix", "diversity",
     "end_point_error", "end_point_hit_rate", "end_point_squared_error", "fid", "fid_class_mean",
     "fid_per_class", "frechet_distance", "gaussian_stats", "mean_acceleration", "mean_class_recall",
     "mean_transition_gaps",

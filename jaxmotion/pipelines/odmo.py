@@ -48,6 +48,7 @@ from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, gather_windows, sample_sequences, sequence_weights
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.metrics.trajectory import end_point_error, end_point_hit_rate, end_point_squared_error
 from jaxmotion.mixtures import (
     MODE_KS,
     GaussianMixture,
@@ -371,9 +372,10 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
     of the class and ``points`` end points evenly spaced between the end roots of two random real windows
     of the class; each pair decoded and its final root compared with the requested end.
 
-    Returns the motions (the batch dict, ``trials · points`` per class, in class order) and per class
-    ``dist_e [C]`` (the code's metric: mean squared end error, m²), ``end_error [C]`` (mean Euclidean error,
-    m) and ``hit_rate [C]`` (share with squared error below ``(threshold · ‖end‖)²``, the code's "error rate")."""
+    Returns the motions (the batch dict, ``trials · points`` per class, in class order) and ``dist_e`` (the
+    code's metric, :func:`~jaxmotion.metrics.trajectory.end_point_error`: mean over classes of the mean
+    squared end error, m²), ``hit_rate`` (:func:`~jaxmotion.metrics.trajectory.end_point_hit_rate` at
+    ``threshold``), ``end_error`` (mean over classes of the mean Euclidean error, m) and ``squared_error [N]``."""
     bank, config = trained.bank, training.model
     codes, ends, actions = [], [], []
     for c in range(config.num_classes):
@@ -386,8 +388,10 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
         actions.append(np.full(trials * points, c, np.int32))
     codes, ends, actions = np.concatenate(codes), np.concatenate(ends), np.concatenate(actions)
     motions = generate_from_codes(trained.params, config, codes, actions, ends)
-    squared = np.square(motions["joints"][:, -1, 0] - ends).sum(-1)
-    hit = squared < np.square(ends).sum(-1) * threshold**2
-    per_class = lambda v: np.array([v[actions == c].mean() for c in range(config.num_classes)])  # noqa: E731
-    return {"motions": motions, "dist_e": per_class(squared), "end_error": per_class(np.sqrt(squared)),
-            "hit_rate": per_class(hit.astype(np.float64))}
+    joints, classes = jnp.asarray(motions["joints"]), config.num_classes
+    squared = np.asarray(end_point_squared_error(joints, ends))
+    distance = np.sqrt(squared)
+    return {"motions": motions, "squared_error": squared,
+            "dist_e": float(end_point_error(joints, ends, actions, classes)),
+            "hit_rate": float(end_point_hit_rate(joints, ends, actions, classes, threshold)),
+            "end_error": float(np.mean([distance[actions == c].mean() for c in range(classes)]))}
