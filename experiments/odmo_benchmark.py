@@ -37,8 +37,8 @@ What differs from the paper, and why:
 
 Reported numbers: Table 1, means (the extracted text keeps the rows and columns in order).
 
-Profiles: ``paper`` is the authors' recipe (:func:`jaxmotion.train.odmo.dataset_training`: 512 pairs, 400 000
-steps, on both datasets). ``cpu`` (see ``CPU`` below) runs HumanAct12 only: on UESTC's 40 classes ODMO's
+Profiles (:func:`jaxmotion.train.odmo.odmo_table_training`): ``paper`` is the authors' recipe (512 pairs,
+400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.train.odmo.CPU_TRAINING`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
 trajectory generator alone has 38 M parameters (its first layer maps 803 inputs to 803 × 59), beyond a
 20-30 minute budget on 2 cores with three ODMO trainings; add it with ``--set 'datasets=["HumanAct12","UESTC"]'``.
 """
@@ -48,7 +48,6 @@ from __future__ import annotations
 import dataclasses
 
 from jaxmotion import experiment
-from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
 from jaxmotion.evaluation.tables import (
@@ -59,13 +58,9 @@ from jaxmotion.evaluation.tables import (
     run_tables,
     table_dataset,
 )
-from jaxmotion.losses.actor import ActorLossWeights
-from jaxmotion.models.actor import ActorConfig
-from jaxmotion.models.odmo import ODMOConfig
 from jaxmotion.train.a2m import A2MTraining, a2m_table_training
 from jaxmotion.train.actor import ActorTraining, table_training
-from jaxmotion.train.loop import LoopConfig
-from jaxmotion.train.odmo import CodeBankConfig, ModeDiscovery, ODMOTraining, TeacherForcing, dataset_training
+from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
 
 LABELS = ("HumanAct12", "UESTC")
 
@@ -100,38 +95,6 @@ CLAIMS = tuple(
     for op, column in ((">", "Acc"), ("<", "FID_tr"))
 ) + (Claim("ODMO", "<", "ACTOR", "UESTC FID_test", "Table 1"),
      Claim("ODMO", ">", "ACTOR", "HumanAct12 n-APD", "Table 1: ODMO's diversity is closer to the real data's"))
-
-# cpu: ODMO with LSTMs of 64 units (the paper's 128) and 64 pairs a step, ~1 200 steps; teacher forcing
-# decays over the first 60% of them (the code: 4 000 of 100 000 epochs). Measured on the 2-core CPU: see
-# the module docstring.
-CPU_STEPS = 1200
-CPU = ODMOTraining(ODMOConfig(num_joints=24, num_classes=12, trajectory_hidden=64, motion_hidden=64),
-                   loop=LoopConfig(CPU_STEPS, log_every=50, checkpoint_every=300), batch_size=32,
-                   teacher_forcing=TeacherForcing(decay_epochs=int(0.6 * CPU_STEPS / 4)), bank=CodeBankConfig(passes=4))
-# ACTOR and Action2Motion as in ACTOR's Table 3 cpu runs (experiments/actor_sota.py)
-ACTOR_CPU = ActorTraining(ActorConfig(num_classes=1, width=64, ff=256, layers=2, heads=4),
-                          LoopConfig(3000, log_every=100, checkpoint_every=1000), losses=ActorLossWeights(joints=1.0),
-                          learning_rate=3e-4)
-
-
-def odmo_training(label: str, profile: str) -> ODMOTraining:
-    """ODMO on the embedded stand-in of ``label`` (24 joints) in ``profile``."""
-    classes = PAPER_SIZES[label][0]
-    paper = dataset_training(label, 24, classes)
-    if profile == "paper":
-        return paper
-    if profile == "cpu":
-        return dataclasses.replace(paper, model=dataclasses.replace(CPU.model, num_classes=classes),
-                                   loop=CPU.loop, batch_size=CPU.batch_size, teacher_forcing=CPU.teacher_forcing,
-                                   bank=CPU.bank)
-    if profile == "smoke":
-        model = ODMOConfig(num_joints=24, num_classes=classes, encoder_hidden=8, encoder_width=16, trajectory_hidden=8,
-                           trajectory_layers=1, motion_hidden=8, motion_layers=1)
-        return dataclasses.replace(paper, model=model, loop=LoopConfig(4, log_every=2, checkpoint_every=0),
-                                   batch_size=8, teacher_forcing=TeacherForcing(decay_epochs=1),
-                                   bank=CodeBankConfig(passes=1, draws=1024), modes=ModeDiscovery(n_init=1))
-    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-
 
 def ablations(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
     """Table 1's ODMO rows from the full recipe: ODMO, ODMO_conv (its sampler only), -r_e, -L_es."""
@@ -175,9 +138,9 @@ class OdmoBenchmarkConfig(experiment.ProfileConfig):
         for label in LABELS:
             name = label.lower()
             fields[name] = _table(label, profile)
-            fields[f"{name}_odmo"] = odmo_training(label, profile)
+            fields[f"{name}_odmo"] = odmo_table_training(label, profile)
             fields[f"{name}_a2m"] = a2m_table_training(label, profile)
-            fields[f"{name}_actor"] = table_training(label, profile, ACTOR_CPU)
+            fields[f"{name}_actor"] = table_training(label, profile)
         return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS, **fields)
 
 

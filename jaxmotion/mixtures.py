@@ -58,9 +58,12 @@ ODMO's number of modes (:func:`choose_k`; FACTS §7, code vs paper) from the sil
 
 :func:`discover_modes_batched` fits every k of every problem in one jitted computation: a fit with k
 components runs in ``max(ks)`` component slots of which the first k are active (an inactive slot has
-weight 0, takes no sample and is never a center), so one compilation serves all ks and the ks are
-vmapped like the problems and restarts. Dropping small components before sampling (ODMO: ≤ 10 codes in
-the code, < 10 in the paper) is the caller's: give them a count of 0 in :func:`sample_components`.
+weight 0, takes no sample and is never a center), so one compilation serves all ks, and the k-means
+starts are vmapped over problems, ks and restarts. Its EM runs share a pool of slots that take the next
+pending run when theirs converges, so the few slow runs do not hold up the many fast ones.
+
+Dropping small components before sampling (ODMO: ≤ 10 codes in the code, < 10 in the paper) is the
+caller's: give them a count of 0 in :func:`sample_components`.
 
 Axes: N samples, D features, K components (slots), C independent problems (classes), R restarts,
 T k-means++ candidates per center.
@@ -85,6 +88,8 @@ MODE_KS = {"code": range(3, 10), "paper": range(3, 12)}
 
 _RATIO = 0.95  # ODMO's silhouette ratio, in both rules
 _KMEANS_INIT = (300, 1e-4)  # max_iter and tol of the KMeans that sklearn's GaussianMixture starts from
+_POOL_SHARE = 16  # EM runs per pool slot in mode discovery (12 × 7 × 5 runs on 2 CPU cores: 1 slot per run
+# 5.5 s, per 8 runs 1.3 s, per 16 or 32 runs 1.2 s)
 
 
 class KMeans(NamedTuple):
@@ -187,6 +192,12 @@ def _check_features(x: jax.Array, gmm: GaussianMixture) -> jax.Array:
 # --------------------------------------------------------------------------------------------- k-means
 
 
+def _center(x: jax.Array, w: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """``x [N, D]`` minus the mean of its valid rows (masked rows 0), and that mean ``[D]``."""
+    mean = (w @ x) / w.sum()
+    return (x - mean) * w[:, None], mean
+
+
 def _n_trials(k: int) -> int:
     """sklearn's k-means++ candidates per center."""
     return 2 + int(math.log(k))
@@ -286,16 +297,10 @@ def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, n_active, max_iter, tol) ->
     return KMeans(centers, jnp.where(w > 0, labels, -1), inertia, n_iter)
 
 
-def _kmeans(u: jax.Array, x: jax.Array, w: jax.Array, n_active, max_iter, tol) -> KMeans:
-    """Best of the restarts ``u [R, K, T]`` of k-means on ``x [N, D]`` (masked rows 0, weights ``w``)."""
-    n_valid = w.sum()
-    mean = (w @ x) / n_valid
-    centred = (x - mean) * w[:, None]
-    tol = tol * jnp.mean((w @ centred**2) / n_valid)
-    fits = jax.vmap(lambda u_r: _lloyd(u_r, centred, w, n_active, max_iter, tol))(u)
-    best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
-    active = jnp.arange(u.shape[1]) < n_active
-    return best._replace(centers=jnp.where(active[:, None], best.centers + mean, 0.0))
+def _absolute_tol(x: jax.Array, w: jax.Array, tol) -> jax.Array:
+    """sklearn's k-means tolerance for centred ``x [N, D]``: ``tol`` times the mean per-feature variance
+    of the valid rows."""
+    return tol * jnp.mean((w @ x**2) / w.sum())
 
 
 def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = None, n_init: int = 1,
@@ -316,8 +321,13 @@ def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = Non
     """
     k = _check_k(k)
     x, mask = _check_data(x, mask, k)
+    w = mask.astype(x.dtype)
+    x, mean = _center(x, w)
+    tol = _absolute_tol(x, w, tol)
     u = jax.random.uniform(key, (n_init, k, _n_trials(k)), x.dtype)
-    return _kmeans(u, x, mask.astype(x.dtype), k, max_iter, tol)
+    fits = jax.vmap(lambda u_r: _lloyd(u_r, x, w, k, max_iter, tol))(u)
+    best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
+    return best._replace(centers=best.centers + mean)
 
 
 # ---------------------------------------------------------------------------------- Gaussian mixtures
@@ -331,11 +341,16 @@ def _precision_cholesky(covariances: jax.Array) -> jax.Array:
 
 
 def _log_gaussians(x: jax.Array, means: jax.Array, prec_chol: jax.Array) -> jax.Array:
-    """``log N(x_n | μ_k, Σ_k)`` -> ``[N, K]`` for ``x [N, D]``, ``means [K, D]``, ``prec_chol [K, D, D]``."""
+    """``log N(x_n | μ_k, Σ_k)`` -> ``[N, K]`` for ``x [N, D]``, ``means [K, D]``, ``prec_chol [K, D, D]``.
+
+    sklearn's form ``x P − μ P``: one ``[N, D] × [D, K·D]`` product instead of K products of ``x − μ_k``
+    (callers centre x, so the cancellation is relative to the data's spread).
+    """
     d = x.shape[-1]
-    y = jnp.einsum("knd,kde->kne", x[None] - means[:, None], prec_chol, precision=_HIGHEST)
+    y = (jnp.einsum("nd,kde->nke", x, prec_chol, precision=_HIGHEST)
+         - jnp.einsum("kd,kde->ke", means, prec_chol, precision=_HIGHEST))
     log_det = jnp.sum(jnp.log(jnp.diagonal(prec_chol, axis1=-2, axis2=-1)), axis=-1)  # = −½ log|Σ|
-    return (-0.5 * (d * math.log(2.0 * math.pi) + jnp.sum(y**2, axis=-1)) + log_det[:, None]).T
+    return -0.5 * (d * math.log(2.0 * math.pi) + jnp.sum(y**2, axis=-1)) + log_det
 
 
 def _weighted_log_prob(weights, means, prec_chol, x) -> jax.Array:
@@ -349,31 +364,83 @@ def _m_step(x: jax.Array, resp: jax.Array, reg_covar, active: jax.Array):
     nk = jnp.where(active, resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps, 0.0)
     safe = jnp.where(active, nk, 1.0)
     means = jnp.matmul(resp.T, x, precision=_HIGHEST) / safe[:, None]
+    # Deviations from each mean, not the second moment about the origin: a covariance made of weighted
+    # outer products stays positive semi-definite whatever the float32 rounding.
     diff = x[None] - means[:, None]  # [K, N, D]
-    cov = jnp.einsum("nk,knd,kne->kde", resp, diff, diff, precision=_HIGHEST) / safe[:, None, None]
-    cov = cov + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
+    cov = jnp.einsum("knd,kne->kde", resp.T[:, :, None] * diff, diff, precision=_HIGHEST)
+    cov = cov / safe[:, None, None] + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
     return nk / nk.sum(), means, cov
+
+
+class _EMState(NamedTuple):
+    weights: jax.Array  # [K]
+    means: jax.Array  # [K, D]
+    covariances: jax.Array  # [K, D, D]
+    prec_chol: jax.Array  # [K, D, D]
+    lower_bound: jax.Array  # [] of the E-step before the M-step that gave these parameters
+    n_iter: jax.Array  # [] int32
+    converged: jax.Array  # [] bool
+
+
+def _em_start(weights, means, covariances) -> _EMState:
+    bound = jnp.full(weights.shape[:-1], -jnp.inf, weights.dtype)
+    return _EMState(weights, means, covariances, _precision_cholesky(covariances), bound,
+                    jnp.zeros(bound.shape, jnp.int32), jnp.zeros(bound.shape, bool))
+
+
+def _em_running(s: _EMState, max_iter) -> jax.Array:
+    return ~s.converged & (s.n_iter < max_iter)
+
+
+def _em_step(x, w, active, tol, reg_covar, s: _EMState) -> _EMState:
+    """One E-step (whose mean log-likelihood is the new lower bound) and M-step on ``x [N, D]``."""
+    log_prob = _weighted_log_prob(s.weights, s.means, s.prec_chol, x)
+    norm = jax.nn.logsumexp(log_prob, axis=-1)
+    bound = (w @ norm) / w.sum()
+    weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar, active)
+    return _EMState(weights, means, cov, _precision_cholesky(cov), bound, s.n_iter + 1,
+                    jnp.abs(bound - s.lower_bound) < tol)
+
+
+def _em_result(s: _EMState) -> GaussianMixture:
+    return GaussianMixture(s.weights, s.means, s.covariances, s.lower_bound, s.converged, s.n_iter)
 
 
 def _em(x, w, weights, means, covariances, active, max_iter, tol, reg_covar) -> GaussianMixture:
     """EM on ``x [N, D]`` (masked rows 0, weights ``w [N]``) from the given parameters."""
-    n_valid = w.sum()
+    step = functools.partial(_em_step, x, w, active, tol, reg_covar)
+    start = _em_start(weights, means, covariances)
+    return _em_result(jax.lax.while_loop(lambda s: _em_running(s, max_iter), step, start))
 
-    def step(state):
-        weights, means, _, prec_chol, lower_bound, it, _ = state
-        log_prob = _weighted_log_prob(weights, means, prec_chol, x)
-        norm = jax.nn.logsumexp(log_prob, axis=-1)
-        new_bound = (w @ norm) / n_valid
-        weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar, active)
-        converged = jnp.abs(new_bound - lower_bound) < tol
-        return weights, means, cov, _precision_cholesky(cov), new_bound, it + 1, converged
 
-    state = (weights, means, covariances, _precision_cholesky(covariances), jnp.array(-jnp.inf, x.dtype),
-             jnp.int32(0), jnp.bool_(False))
-    weights, means, cov, _, bound, n_iter, converged = jax.lax.while_loop(
-        lambda s: ~s[6] & (s[5] < max_iter), step, state
-    )
-    return GaussianMixture(weights, means, cov, bound, converged, n_iter)
+def _em_pool(x, w, owner, active, start: _EMState, max_iter, tol, reg_covar, width: int) -> GaussianMixture:
+    """EM for B problems ``start`` (leaves ``[B, ...]``) on the data ``x [C, N, D]``, ``w [C, N]`` of
+    their problem ``owner [B]``, with ``active [B, K]`` components, ``width`` (static) at a time.
+
+    A vmapped ``while_loop`` runs every problem as long as the slowest (EM from k-means starts on
+    ODMO-sized problems: a median of 2 iterations, a mean of 5, a tail of 30). Here ``width`` slots each
+    hold one problem and take the next pending one when theirs stops, so the work is the problems' own
+    iterations plus one tail; every problem gets exactly the iterations it would get alone.
+    """
+    b = owner.shape[0]
+    step = jax.vmap(_em_step, in_axes=(0, 0, 0, None, None, 0))
+
+    def body(carry):
+        states, slots, pending = carry
+        live = slots < b
+        index = jnp.minimum(slots, b - 1)
+        current = jax.tree.map(lambda a: a[index], states)
+        run = live & _em_running(current, max_iter)
+        new = step(x[owner[index]], w[owner[index]], active[index], tol, reg_covar, current)
+        new = jax.tree.map(lambda n, c: jnp.where(run.reshape(run.shape + (1,) * (n.ndim - 1)), n, c), new, current)
+        states = jax.tree.map(lambda a, n: a.at[jnp.where(live, slots, b)].set(n, mode="drop"), states, new)
+        free = ~live | ~_em_running(new, max_iter)
+        slots = jnp.where(free, pending + jnp.cumsum(free) - 1, slots)
+        return states, slots, pending + free.sum()
+
+    width = min(width, b)
+    carry = (start, jnp.arange(width), jnp.int32(width))
+    return _em_result(jax.lax.while_loop(lambda c: jnp.any(c[1] < b), body, carry)[0])
 
 
 def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.Array, *,
@@ -397,26 +464,34 @@ def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.
     x, mask = _check_data(x, mask)
     if x.shape[1] != means.shape[1]:
         raise ValueError(f"x: expected [N, D] = [N, {means.shape[1]}], got {tuple(x.shape)}")
-    active = jnp.ones(weights.shape, bool)
-    return _em(x, mask.astype(x.dtype), weights, means, covariances, active, max_iter, tol, reg_covar)
+    w = mask.astype(x.dtype)
+    x, mean = _center(x, w)
+    fit = _em(x, w, weights, means - mean, covariances, jnp.ones(weights.shape, bool), max_iter, tol, reg_covar)
+    return fit._replace(means=fit.means + mean)
 
 
-def _gmm(u, x, w, n_active, init, max_iter, tol, reg_covar, kmeans_max_iter, kmeans_tol) -> GaussianMixture:
-    """Best of the restarts ``u`` (``[R, K, T]`` k-means++ uniforms for ``init="kmeans"``, ``[R, N, K]``
-    responsibilities for ``"random"``) of EM on ``x [N, D]`` with the first ``n_active`` of K slots."""
+def _gmm_starts(u, x, w, n_active, init, reg_covar, kmeans_max_iter, kmeans_tol):
+    """The starting parameters of the restarts ``u`` (``[R, K, T]`` k-means++ uniforms for
+    ``init="kmeans"``, ``[R, N, K]`` responsibilities for ``"random"``) on centred ``x [N, D]``, with the
+    first ``n_active`` of K slots -> weights ``[R, K]``, means ``[R, K, D]``, covariances ``[R, K, D, D]``."""
     k = u.shape[-1] if init == "random" else u.shape[1]
     active = jnp.arange(k) < n_active
+    kmeans_tol = _absolute_tol(x, w, kmeans_tol)
 
-    def restart(u_r):
+    def start(u_r):
         if init == "kmeans":
-            labels = _kmeans(u_r[None], x, w, n_active, kmeans_max_iter, kmeans_tol).labels
+            labels = _lloyd(u_r, x, w, n_active, kmeans_max_iter, kmeans_tol).labels
             resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
         else:
             resp = u_r * active
             resp = resp / resp.sum(axis=1, keepdims=True) * w[:, None]
-        return _em(x, w, *_m_step(x, resp, reg_covar, active), active, max_iter, tol, reg_covar)
+        return _m_step(x, resp, reg_covar, active)
 
-    fits = jax.vmap(restart)(u)
+    return jax.vmap(start)(u)
+
+
+def _best_restart(fits: GaussianMixture) -> GaussianMixture:
+    """The restart (leading axis) with the highest lower bound; NaN loses."""
     best = jnp.argmax(jnp.where(jnp.isnan(fits.lower_bound), -jnp.inf, fits.lower_bound))
     return jax.tree.map(lambda a: a[best], fits)
 
@@ -450,12 +525,20 @@ def fit_gmm(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = No
     k = _check_k(k)
     _check_init(init)
     x, mask = _check_data(x, mask, k)
+    w = mask.astype(x.dtype)
+    x, mean = _center(x, w)
     u = jax.random.uniform(key, _restart_shape(init, n_init, x.shape[0], k), x.dtype)
-    return _gmm(u, x, mask.astype(x.dtype), k, init, max_iter, tol, reg_covar, kmeans_max_iter, kmeans_tol)
+    starts = _gmm_starts(u, x, w, k, init, reg_covar, kmeans_max_iter, kmeans_tol)
+    active = jnp.ones((k,), bool)
+    fits = jax.vmap(lambda s: _em(x, w, *s, active, max_iter, tol, reg_covar))(starts)
+    best = _best_restart(fits)
+    return best._replace(means=best.means + mean)
 
 
 def _mixture_log_prob(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
-    return _weighted_log_prob(gmm.weights, gmm.means, _precision_cholesky(gmm.covariances), x)
+    """``[N, K]`` weighted log densities, computed about the mixture's mean (``x P − μ P`` cancels less)."""
+    center = gmm.weights @ gmm.means
+    return _weighted_log_prob(gmm.weights, gmm.means - center, _precision_cholesky(gmm.covariances), x - center)
 
 
 def gmm_log_prob(gmm: GaussianMixture, x: jax.Array) -> jax.Array:
@@ -604,25 +687,38 @@ def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
     return ks
 
 
-@functools.partial(jax.jit, static_argnames=("ks", "n_init", "init"))
-def _fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init):
+@functools.partial(jax.jit, static_argnames=("ks", "n_init", "init", "pool_share"))
+def _fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init, pool_share=_POOL_SHARE):
     """For C problems ``x [C, N, D]``, ``mask [C, N]`` and every k of ``ks``: the GMM (``max(ks)`` slots,
-    the first k active), its labels and their silhouette -> leaves ``[C, len(ks), ...]``."""
-    k_max = ks[-1]
+    the first k active), its labels and their silhouette -> leaves ``[C, len(ks), ...]``.
 
-    def one_problem(key, x, mask):
-        w = mask.astype(x.dtype)
-        # One draw for every k and restart: each random-bits call costs seconds of compilation on a CPU.
-        u = jax.random.uniform(key, (len(ks), *_restart_shape(init, n_init, x.shape[0], k_max)), x.dtype)
+    The C · len(ks) · n_init EM runs share one pool of ``⌈runs / pool_share⌉`` slots (:func:`_em_pool`).
+    """
+    c, n, _ = x.shape
+    k_max, n_ks = ks[-1], len(ks)
+    w = mask.astype(x.dtype)
+    x, mean = jax.vmap(_center)(x, w)
+    # One draw per problem for every k and restart: each random-bits call costs seconds of compilation.
+    u = jax.vmap(lambda key: jax.random.uniform(key, (n_ks, *_restart_shape(init, n_init, n, k_max)), x.dtype))(keys)
+    n_active = jnp.asarray(ks)
+    starts = jax.vmap(lambda u_c, x_c, w_c: jax.vmap(
+        lambda u_k, n_k: _gmm_starts(u_k, x_c, w_c, n_k, init, reg_covar, *_KMEANS_INIT))(u_c, n_active))(u, x, w)
+    runs = c * n_ks * n_init
+    owner = jnp.repeat(jnp.arange(c), n_ks * n_init)
+    active = jnp.broadcast_to(jnp.arange(k_max) < n_active[:, None, None], (c, n_ks, n_init, k_max))
+    flat = jax.tree.map(lambda a: a.reshape(runs, *a.shape[3:]), starts)
+    fits = _em_pool(x, w, owner, active.reshape(runs, k_max), _em_start(*flat), max_iter, tol, reg_covar,
+                    -(-runs // pool_share))
+    gmm = jax.vmap(jax.vmap(_best_restart))(jax.tree.map(lambda a: a.reshape(c, n_ks, n_init, *a.shape[1:]), fits))
 
-        def one_k(u_k, n_active):
-            gmm = _gmm(u_k, x, w, n_active, init, max_iter, tol, reg_covar, *_KMEANS_INIT)
-            labels = jnp.where(mask, jnp.argmax(_mixture_log_prob(gmm, x), axis=-1).astype(jnp.int32), -1)
-            return gmm, labels, _silhouette(x, mask, labels, k_max)
+    def score(gmm_ck, x_c, mask_c):
+        labels = jnp.argmax(_mixture_log_prob(gmm_ck, x_c), axis=-1).astype(jnp.int32)
+        labels = jnp.where(mask_c, labels, -1)
+        return labels, _silhouette(x_c, mask_c, labels, k_max)
 
-        return jax.vmap(one_k)(u, jnp.asarray(ks))
-
-    return jax.vmap(one_problem)(keys, x, mask)
+    labels, silhouettes = jax.vmap(jax.vmap(score, in_axes=(0, None, None)))(gmm, x, mask)
+    means = jnp.where(active[:, :, 0, :, None], gmm.means + mean[:, None, None], 0.0)
+    return gmm._replace(means=means), labels, silhouettes
 
 
 def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:

@@ -48,6 +48,8 @@ from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, gather_windows, sample_sequences, sequence_weights
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.metrics.apd import mode_homogeneity
+from jaxmotion.metrics.clustering import adjusted_rand_index
 from jaxmotion.metrics.trajectory import end_point_error, end_point_hit_rate, end_point_squared_error
 from jaxmotion.mixtures import (
     MODE_KS,
@@ -395,3 +397,34 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
             "dist_e": float(end_point_error(joints, ends, actions, classes)),
             "hit_rate": float(end_point_hit_rate(joints, ends, actions, classes, threshold)),
             "end_error": float(np.mean([distance[actions == c].mean() for c in range(classes)]))}
+
+
+# ---------------------------------------------------------------------------------------------- modes scored
+
+
+def score_modes(codes: np.ndarray, actions: np.ndarray, true_modes: np.ndarray, joints: np.ndarray, num_classes: int,
+                *, rule: str = "code", n_init: int = 5, key: jax.Array | None = None) -> dict[str, np.ndarray]:
+    """How well the modes discovered in any model's codes of real windows match the motions (Table 3) and the
+    ground-truth style modes (the embedded data's): ``codes [N, Z]`` (ODMO's µ, ACTOR's posterior means...),
+    ``actions [N]``, ``true_modes [N]`` (-1 where unknown), ``joints [N, T, J, 3]`` the windows.
+
+    Returns ``labels [N]`` (each window's discovered mode), ``k [C]``, ``mode_homogeneity`` (ODMO's, %:
+    :func:`~jaxmotion.metrics.apd.mode_homogeneity` with the discovered modes) and ``ari [C]`` (the adjusted
+    Rand index of discovered against true modes per class; NaN for a class without true modes)."""
+    codes, actions, true_modes = np.asarray(codes, np.float32), np.asarray(actions), np.asarray(true_modes)
+    bank = CodeBank(codes, np.zeros((len(codes), 3), np.float32), actions.astype(np.int32),
+                    np.arange(len(codes), dtype=np.int32), true_modes.astype(np.int32))
+    order = np.argsort(actions, kind="stable")  # the bank's rows in class order, as class_modes reads them
+    bank = CodeBank(*(a[order] for a in bank))
+    modes = class_modes(bank, num_classes, rule=rule, n_init=n_init, key=key)
+    labels = np.empty(len(codes), np.int32)
+    labels[order] = bank_labels(bank, modes)
+    width = int(max(modes.k.max(), 1))
+    homogeneity = float(mode_homogeneity(jnp.asarray(joints), jnp.asarray(actions, jnp.int32),
+                                         jnp.asarray(labels), num_classes, width))
+    ari = np.full(num_classes, np.nan)
+    for c in range(num_classes):
+        rows = np.flatnonzero((actions == c) & (true_modes >= 0))
+        if rows.size:
+            ari[c] = float(adjusted_rand_index(true_modes[rows], labels[rows], int(true_modes[rows].max()) + 1, width))
+    return {"labels": labels, "k": np.asarray(modes.k), "mode_homogeneity": homogeneity, "ari": ari}

@@ -44,6 +44,7 @@ import numpy as np
 import optax
 from flax.training.train_state import TrainState
 
+from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, PairSpec
 from jaxmotion.geometry.skeletons import Skeleton
@@ -263,3 +264,36 @@ def dataset_training(label: str, num_joints: int, num_classes: int, **model_over
     return ODMOTraining(model, losses=ODMOLossConfig(y_weight=settings["y_weight"]),
                         validation_fraction=settings["validation_fraction"], partners=settings["partners"],
                         bank=CodeBankConfig(passes=settings["passes"]))
+
+
+#: The cpu profile's ODMO (every ODMO table): LSTMs of 64 units (the paper's 128), 32 pairs a step, 1 200
+#: steps; teacher forcing decays over the first 60% of them (the code: over 4 000 of 100 000 epochs).
+CPU_STEPS = 1200
+CPU_TRAINING = ODMOTraining(ODMOConfig(num_joints=24, num_classes=12, trajectory_hidden=64, motion_hidden=64),
+                            loop=LoopConfig(CPU_STEPS, log_every=50, checkpoint_every=300), batch_size=32,
+                            teacher_forcing=TeacherForcing(decay_epochs=int(0.6 * CPU_STEPS / 4)),
+                            bank=CodeBankConfig(passes=4))
+
+
+def odmo_table_training(label: str, profile: str, cpu: ODMOTraining = CPU_TRAINING, num_joints: int = 24
+                        ) -> ODMOTraining:
+    """ODMO in a table on the paper dataset ``label`` in ``profile``: paper, :func:`dataset_training`; cpu, the
+    dataset's settings with ``cpu``'s model widths, loop, batch, schedule and bank; smoke, a tiny model for a
+    few steps. The classes are the dataset's; ``num_joints`` the data's (24 on the embedded stand-ins)."""
+    classes = PAPER_SIZES[label][0]
+    paper = dataset_training(label, num_joints, classes)
+    if profile == "paper":
+        return paper
+    if profile == "cpu":
+        model = dataclasses.replace(cpu.model, num_joints=num_joints, num_classes=classes,
+                                    num_frames=paper.model.num_frames)
+        return dataclasses.replace(paper, model=model, loop=cpu.loop, batch_size=cpu.batch_size,
+                                   teacher_forcing=cpu.teacher_forcing, bank=cpu.bank)
+    if profile == "smoke":
+        model = ODMOConfig(num_joints=num_joints, num_classes=classes, num_frames=paper.model.num_frames,
+                           encoder_hidden=8, encoder_width=16, trajectory_hidden=8, trajectory_layers=1,
+                           motion_hidden=8, motion_layers=1)
+        return dataclasses.replace(paper, model=model, loop=LoopConfig(4, log_every=2, checkpoint_every=0),
+                                   batch_size=8, teacher_forcing=TeacherForcing(decay_epochs=1),
+                                   bank=CodeBankConfig(passes=1, draws=1024), modes=ModeDiscovery(n_init=1))
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")

@@ -1,10 +1,11 @@
-"""Line plots of experiment results, drawn on a matplotlib ``Figure`` (no pyplot state, no display)."""
+"""Line and scatter plots of experiment results, drawn on a matplotlib ``Figure`` (no pyplot state, no display)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure
 
 
@@ -21,5 +22,23 @@ def save_curves(path: Path, x: Sequence[float], panels: Mapping[str, Mapping[str
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3)
     ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+
+
+def save_scatter(path: Path, points, labels, *, title: str = "") -> None:
+    """Points ``[N, 2]`` coloured by integer ``labels [N]`` (one legend entry per label): e.g. latent codes
+    projected to 2-D, coloured by discovered mode."""
+    points, labels = np.asarray(points), np.asarray(labels)
+    if points.ndim != 2 or points.shape[1] != 2 or labels.shape != (points.shape[0],):
+        raise ValueError(f"points, labels: expected [N, 2] and [N], got {points.shape} and {labels.shape}")
+    fig = Figure(figsize=(4.5, 4.0))
+    ax = fig.subplots()
+    for label in np.unique(labels):
+        chosen = labels == label
+        ax.scatter(points[chosen, 0], points[chosen, 1], s=8, alpha=0.7, label=f"mode {label}")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
