@@ -60,7 +60,7 @@ from jaxmotion.evaluation.tables import (
 )
 from jaxmotion.train.a2m import A2MTraining, a2m_table_training
 from jaxmotion.train.actor import ActorTraining, table_training
-from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
+from jaxmotion.train.odmo import ODMOTraining, benchmark_variants, odmo_table_training
 
 LABELS = ("HumanAct12", "UESTC")
 
@@ -95,16 +95,6 @@ CLAIMS = tuple(
     for op, column in ((">", "Acc"), ("<", "FID_tr"))
 ) + (Claim("ODMO", "<", "ACTOR", "UESTC FID_test", "Table 1"),
      Claim("ODMO", ">", "ACTOR", "HumanAct12 n-APD", "Table 1: ODMO's diversity is closer to the real data's"))
-
-def ablations(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
-    """Table 1's ODMO rows from the full recipe: ODMO, ODMO_conv (its sampler only), -r_e, -L_es."""
-    return {
-        "ODMO": odmo,
-        "ODMO_conv": dataclasses.replace(odmo, sampling="conventional"),
-        "-r_e": dataclasses.replace(odmo, model=dataclasses.replace(odmo.model, use_end=False)),
-        "-L_es": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, contrastive=False)),
-    }
-
 
 def _table(label: str, profile: str) -> TableDataset:
     per_class = {"HumanAct12": 250, "UESTC": 200}[label]
@@ -146,7 +136,7 @@ class OdmoBenchmarkConfig(experiment.ProfileConfig):
 
 def rows_of(config: OdmoBenchmarkConfig, label: str) -> dict:
     name = label.lower()
-    return {**ablations(getattr(config, f"{name}_odmo")), "A2M-xyz": getattr(config, f"{name}_a2m"),
+    return {**benchmark_variants(getattr(config, f"{name}_odmo")), "A2M-xyz": getattr(config, f"{name}_a2m"),
             "ACTOR": getattr(config, f"{name}_actor")}
 
 

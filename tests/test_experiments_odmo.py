@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from experiments import odmo_benchmark
+from jaxmotion.train.odmo import benchmark_variants
 
 HUMANACT12 = ["HumanAct12 Acc", "HumanAct12 FID_tr", "HumanAct12 Diversity", "HumanAct12 MModality",
               "HumanAct12 n-APD"]
@@ -53,10 +54,64 @@ def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_p
 
 def test_ablation_rows_change_one_thing_each():
     odmo = odmo_benchmark.OdmoBenchmarkConfig.smoke().humanact12_odmo
-    rows = odmo_benchmark.ablations(odmo)
+    rows = benchmark_variants(odmo)
     assert rows["ODMO_conv"].training == odmo.training and rows["ODMO_conv"].sampling == "conventional"
     assert rows["-r_e"].model.use_end is False and rows["-r_e"].losses == odmo.losses
     assert rows["-L_es"].losses.contrastive is False and rows["-L_es"].model == odmo.model
     with pytest.raises(ValueError, match="datasets"):
         odmo_benchmark.OdmoBenchmarkConfig.for_profile("smoke").__class__(
             **{**odmo_benchmark.OdmoBenchmarkConfig.smoke().__dict__, "datasets": ("NTU-13",)})
+
+
+@pytest.mark.slow
+def test_mocap_table_has_the_paper_rows_on_100_frame_windows(tmp_path, monkeypatch, cache):
+    from experiments import odmo_mocap
+
+    rows = _smoke(odmo_mocap, tmp_path, monkeypatch, cache)
+    assert [name for name in rows if not name.endswith("(reported)")] == [
+        "Real", "A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"]
+    assert odmo_mocap.OdmoMocapConfig.smoke().mocap.protocol.duration == 100
+    for name in ("A2M-xyz", "ACTOR", "ODMO", "-L_es"):
+        assert_generations_vary(rows, name, "MoCap ")
+
+
+@pytest.mark.slow
+def test_modes_table_scores_both_latent_spaces_against_the_true_modes(tmp_path, monkeypatch, cache):
+    from experiments import odmo_modes
+
+    rows = _smoke(odmo_modes, tmp_path, monkeypatch, cache)
+    assert [name for name in rows if not name.endswith("(reported)")] == list(odmo_modes.ROWS)
+    for label in ("HumanAct12", "UESTC"):
+        assert rows["True modes"][f"{label} ARI"]["mean"] == 1.0
+        assert rows["Real motions"][f"{label} mode-homogeneity"]["mean"] == pytest.approx(0.0, abs=1e-3)
+        for name in ("Modes_ODMO", "Modes_ACTOR"):  # discovered modes split the classes: APD drops
+            assert rows[name][f"{label} mode-homogeneity"]["mean"] > 0
+            assert -1.0 <= rows[name][f"{label} ARI"]["mean"] <= 1.0
+    figures = tmp_path / "odmo_modes" / "smoke" / "seed-0" / "figures"
+    assert (figures / "humanact12-codes.png").is_file() and list(figures.glob("humanact12-mode-*.png"))
+
+
+@pytest.mark.slow
+def test_trajectory_table_measures_the_end_point_error_of_every_row(tmp_path, monkeypatch, cache):
+    from experiments import odmo_trajectory
+
+    rows = _smoke(odmo_trajectory, tmp_path, monkeypatch, cache)
+    assert [name for name in rows if not name.endswith("(reported)")] == list(odmo_trajectory.ROWS)
+    for name in odmo_trajectory.ROWS:
+        for label in odmo_trajectory.LABELS:
+            cells = rows[name]
+            # dist_e is the mean squared error; the end error its root's mean: mean(√e) ≤ √mean(e)
+            error_m = cells[f"{label} end error (cm)"]["mean"] / 100
+            assert 0 < error_m <= np.sqrt(cells[f"{label} dist_e"]["mean"]) + 1e-6
+    assert (tmp_path / "odmo_trajectory" / "smoke" / "seed-0" / "figures" / "humanact12-end-points.png").is_file()
+
+
+@pytest.mark.slow
+def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path, monkeypatch, cache):
+    from experiments import odmo_sigma
+
+    rows = _smoke(odmo_sigma, tmp_path, monkeypatch, cache)
+    assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
+    sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().humanact12_odmo, (6.25, 0.05), "std")
+    assert [t.losses.prior_std for t in sweep.values()] == [6.25, 0.05]
+    assert odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].losses.prior_std == pytest.approx(0.5)

@@ -297,3 +297,14 @@ def odmo_table_training(label: str, profile: str, cpu: ODMOTraining = CPU_TRAINI
                                    batch_size=8, teacher_forcing=TeacherForcing(decay_epochs=1),
                                    bank=CodeBankConfig(passes=1, draws=1024), modes=ModeDiscovery(n_init=1))
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+def benchmark_variants(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
+    """The ODMO rows of the paper's Tables 1 and 2 from the full recipe: ODMO, ODMO_conv (its sampler only:
+    trained once with ODMO), -r_e (no end location into the trajectory generator), -L_es (no contrastive term)."""
+    return {
+        "ODMO": odmo,
+        "ODMO_conv": dataclasses.replace(odmo, sampling="conventional"),
+        "-r_e": dataclasses.replace(odmo, model=dataclasses.replace(odmo.model, use_end=False)),
+        "-L_es": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, contrastive=False)),
+    }

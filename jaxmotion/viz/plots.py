@@ -42,3 +42,26 @@ def save_scatter(path: Path, points, labels, *, title: str = "") -> None:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
+
+
+def save_trajectories(path: Path, panels, *, title: str = "") -> None:
+    """Top views (x right, z up the page) of root paths with their requested end points, one panel per
+    ``{title: (paths [N, T, 3], ends [N, 3])}``: a path is a line from its start, its end point a cross in
+    the same colour."""
+    panels = dict(panels)
+    fig = Figure(figsize=(4.0 * len(panels), 4.0))
+    for ax, (name, (paths, ends)) in zip(fig.subplots(1, len(panels), squeeze=False)[0], panels.items(), strict=True):
+        paths, ends = np.asarray(paths), np.asarray(ends)
+        for i, (path_i, end) in enumerate(zip(paths, ends, strict=True)):
+            line, = ax.plot(path_i[:, 0], path_i[:, 2], linewidth=1.5)
+            ax.plot(end[0], end[2], marker="x", markersize=8, color=line.get_color())
+        ax.plot(0, 0, marker="o", color="black")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("z (m)")
+        ax.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)

@@ -1,0 +1,159 @@
+"""ODMO Table 4 and Figure 4: trajectory customisation by a requested end point.
+
+Paper: Lu, Roy-Chowdhury et al., ACM MM 2022, §4.4, Table 4 and Figure 4; the test as the authors' code runs
+it (``trajectory_customization.py``, :func:`jaxmotion.pipelines.odmo.end_point_trials`): per class, 40
+times, one random real code of the class and 10 end points evenly spaced between the end roots of two random
+real windows of the class; the 400 motions per class are generated from the origin and compared with their
+targets. Rows: **ODMO**, **-L_traj** (trained without the trajectory and consistency terms), **-L_cons**
+(without the consistency term); columns per dataset:
+
+* **Acc**: the dataset's recogniser's accuracy on the customised motions (%);
+* **dist_e**: the code's metric, the mean squared distance between the target and the final root (m²;
+  mean over classes);
+* **end error** (cm): the mean Euclidean distance (the issue's target: ≤ 10 cm on synth-humanact12, ≤ 30 cm
+  on synth-cmu); **hit rate** (%): the share of motions ending within 10% of the target's distance from the
+  start (the code's logged "error rate", which counts successes).
+
+Each repetition (10 in the paper, seeds 0..9) draws new codes and end points from the same trained models.
+
+    python -m experiments.odmo_trajectory                   # cpu profile on the embedded data
+    python -m experiments.odmo_trajectory --profile paper
+
+Figure 4 (``figures/`` in the run folder): top views of one code sent to 10 end points, and of 4 codes of
+the class sent to one end point, for the first class of each dataset.
+
+Differences: the embedded stand-ins (24 joints; CMU MoCap's 20 in the paper) and their recognisers. The cpu
+profile runs HumanAct12 and MoCap (UESTC: ``--set 'datasets=["MoCap","HumanAct12","UESTC"]'``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxmotion import experiment
+from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
+from jaxmotion.evaluation.tables import STAND_INS, TableData, real_sets, slug
+from jaxmotion.metrics.classification import accuracy, confusion_matrix
+from jaxmotion.pipelines.odmo import customize_end, end_point_trials
+from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
+from jaxmotion.viz import save_trajectories
+
+LABELS = ("MoCap", "HumanAct12", "UESTC")
+EVALUATORS = {"MoCap": "synth-cmu/gru", "HumanAct12": "synth-humanact12/gru", "UESTC": "synth-uestc/gru"}
+ROWS = ("-L_traj", "-L_cons", "ODMO")
+# Table 4, means: Acc (%), dist_e on MoCap, HumanAct12, UESTC
+REPORTED = {
+    "-L_traj": {"MoCap": (89.23, 0.71), "HumanAct12": (96.02, 0.04), "UESTC": (92.84, 0.03)},
+    "-L_cons": {"MoCap": (88.04, 0.35), "HumanAct12": (94.21, 0.02), "UESTC": (94.02, 0.02)},
+    "ODMO": {"MoCap": (91.56, 0.06), "HumanAct12": (96.95, 0.00), "UESTC": (93.42, 0.01)},
+}
+# §4.4: "the ODMO model (with both trajectory loss and consistency loss) has the most powerful customization
+# ability"
+CLAIMS = tuple(Claim("ODMO", "<", other, f"{label} dist_e", "Table 4: both terms are needed to reach the end")
+               for label in LABELS for other in ("-L_traj", "-L_cons"))
+
+
+@dataclasses.dataclass(frozen=True)
+class TrajectoryTable:
+    """One dataset of Table 4: data, evaluator, the full recipe (the ablations follow from it), the test's size."""
+
+    label: str
+    data: TableData
+    evaluator: RecognizerTraining
+    odmo: ODMOTraining
+    trials: int = 40
+    points: int = 10
+    repetitions: int = 10
+
+
+def ablations(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
+    """Table 4's rows from the full recipe."""
+    return {"-L_traj": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, trajectory_loss=False)),
+            "-L_cons": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, consistency=False)),
+            "ODMO": odmo}
+
+
+@dataclasses.dataclass(frozen=True)
+class OdmoTrajectoryConfig(experiment.ProfileConfig):
+    datasets: tuple[str, ...]
+    mocap: TrajectoryTable
+    humanact12: TrajectoryTable
+    uestc: TrajectoryTable
+
+    @classmethod
+    def for_profile(cls, profile: str) -> OdmoTrajectoryConfig:
+        tables = {}
+        for label in LABELS:
+            smoke = profile == "smoke"
+            tables[label.lower()] = TrajectoryTable(
+                label, TableData(STAND_INS[label].dataset, count=80 if smoke else None, test_split=False),
+                evaluator_spec(EVALUATORS[label], profile), odmo_table_training(label, profile),
+                trials=2 if smoke else 40, points=3 if smoke else 10,
+                repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
+        return cls(datasets=("MoCap", "HumanAct12") if profile == "cpu" else LABELS, **tables)
+
+
+def _figures(trained, training: ODMOTraining, folder, label: str, key: jax.Array) -> None:
+    folder.mkdir(parents=True, exist_ok=True)
+    bank = trained.bank
+    rows = bank.of_class(0)
+    pick = np.asarray(jax.random.randint(key, (6,), 0, len(rows)))
+    a, b = bank.ends[rows[pick[0]]], bank.ends[rows[pick[1]]]
+    ends = np.linspace(a, b, 10).astype(np.float32)
+    one_code = customize_end(trained, training, bank.codes[rows[pick[2]]], 0, ends)
+    many = customize_end(trained, training, bank.codes[rows[pick[2:6]]], 0, np.repeat(ends[5:6], 4, axis=0))
+    save_trajectories(folder / f"{slug(label)}-end-points.png",
+                      {"one code, 10 end points": (one_code["joints"][:, :, 0], ends),
+                       "4 codes, one end point": (many["joints"][:, :, 0], many["ends"])},
+                      title=f"{label}: root paths (top view) and requested end points")
+
+
+def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, dict]:
+    data = real_sets(table.data, ctx.data_root)["train"]
+    recognizer, _ = trained_recognizer(table.evaluator, data_root=ctx.data_root)  # before any row trains
+    rows = {}
+    key = ctx.key(f"train {table.label}")
+    for name, training in ablations(table.odmo).items():
+        trained = training.fit(data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh)
+        cells = {"Acc": [], "dist_e": [], "end error (cm)": [], "hit rate (%)": []}
+        for r in range(table.repetitions):
+            result = end_point_trials(trained, training, jax.random.fold_in(ctx.key(f"trials {table.label}"), r),
+                                      trials=table.trials, points=table.points)
+            motions = result["motions"]
+            logits, _ = recognizer(motions)
+            confusion = confusion_matrix(jnp.asarray(motions["actions"]), jnp.argmax(logits, -1), recognizer.num_classes)
+            cells["Acc"].append(100 * float(accuracy(confusion)))
+            cells["dist_e"].append(result["dist_e"])
+            cells["end error (cm)"].append(100 * result["end_error"])
+            cells["hit rate (%)"].append(100 * result["hit_rate"])
+        rows[name] = {f"{table.label} {column}": values for column, values in cells.items()}
+        if name == "ODMO":
+            _figures(trained, training, ctx.workdir / "figures", table.label, ctx.key(f"figures {table.label}"))
+    return rows
+
+
+def run(config: OdmoTrajectoryConfig, ctx: experiment.RunContext):
+    rows: dict[str, dict] = {}
+    for label in LABELS:
+        if label in config.datasets:
+            for row, cells in run_table(getattr(config, label.lower()), ctx).items():
+                rows.setdefault(row, {}).update(cells)
+    table = {}
+    for row in ROWS:
+        table[row] = rows[row]
+        table[f"{row} (reported)"] = {f"{label} {column}": value for label, values in REPORTED[row].items()
+                                      for column, value in zip(("Acc", "dist_e"), values, strict=True)}
+    return table
+
+
+def main(argv=None):
+    return experiment.main("odmo_trajectory", OdmoTrajectoryConfig, run, argv, description=__doc__, claims=CLAIMS)
+
+
+if __name__ == "__main__":
+    main()
