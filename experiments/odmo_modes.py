@@ -44,7 +44,7 @@ from jaxmotion.data.motion import Motion
 from jaxmotion.data.pipeline import BatchSpec, class_windows, map_in_chunks
 from jaxmotion.data.preview import filmstrip
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableData, real_sets, slug
+from jaxmotion.evaluation.tables import TableData, interleave_reported, real_sets, side_by_side, slug
 from jaxmotion.pipelines.actor import posterior
 from jaxmotion.pipelines.odmo import encode_windows, interpolate_modes, score_modes
 from jaxmotion.metrics.apd import mode_homogeneity
@@ -126,6 +126,7 @@ def _figures(table: ModesTable, odmo_fit, windows: dict, codes: np.ndarray, scor
 
 
 def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
+    """Table 3's rows on one dataset, ``{row: {column: values over repetitions}}``."""
     data = real_sets(table.data, ctx.data_root)["train"]
     workdir = ctx.workdir / slug(table.label)
     key = ctx.key(f"train {table.label}")
@@ -153,23 +154,15 @@ def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
             cells[name]["ARI"].append(0.0 if name == "Real motions" else 1.0)
         if r == 0:
             _figures(table, odmo_fit, windows, codes, scores["Modes_ODMO"], data.skeleton, ctx.workdir / "figures")
-    return {row: {f"{table.label} {column}": values for column, values in row_cells.items()}
-            for row, row_cells in cells.items()}
+    return cells
 
 
 def run(config: OdmoModesConfig, ctx: experiment.RunContext):
-    rows: dict[str, dict] = {}
-    for label in LABELS:
-        if label in config.datasets:
-            for row, cells in run_table(getattr(config, label.lower()), ctx).items():
-                rows.setdefault(row, {}).update(cells)
-    table = {}
-    for row in ROWS:
-        table[row] = rows[row]
-        if row in REPORTED:
-            table[f"{row} (reported)"] = {f"{label} mode-homogeneity": value
-                                          for label, value in zip(LABELS, REPORTED[row], strict=True)}
-    return table
+    measured = side_by_side({label: run_table(getattr(config, label.lower()), ctx)
+                             for label in LABELS if label in config.datasets})
+    reported = {row: {f"{label} mode-homogeneity": value for label, value in zip(LABELS, values, strict=True)}
+                for row, values in REPORTED.items()}
+    return interleave_reported(measured, reported, ROWS)
 
 
 def main(argv=None):

@@ -37,7 +37,7 @@ import numpy as np
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
-from jaxmotion.evaluation.tables import STAND_INS, TableData, real_sets, slug
+from jaxmotion.evaluation.tables import STAND_INS, TableData, interleave_reported, real_sets, side_by_side, slug
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.pipelines.odmo import customize_end, end_point_trials
 from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
@@ -114,6 +114,7 @@ def _figures(trained, training: ODMOTraining, folder, label: str, key: jax.Array
 
 
 def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, dict]:
+    """Table 4's rows on one dataset, ``{row: {column: values over repetitions}}``."""
     data = real_sets(table.data, ctx.data_root)["train"]
     recognizer, _ = trained_recognizer(table.evaluator, data_root=ctx.data_root)  # before any row trains
     rows = {}
@@ -131,24 +132,19 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
             cells["dist_e"].append(result["dist_e"])
             cells["end error (cm)"].append(100 * result["end_error"])
             cells["hit rate (%)"].append(100 * result["hit_rate"])
-        rows[name] = {f"{table.label} {column}": values for column, values in cells.items()}
+        rows[name] = cells
         if name == "ODMO":
             _figures(trained, training, ctx.workdir / "figures", table.label, ctx.key(f"figures {table.label}"))
     return rows
 
 
 def run(config: OdmoTrajectoryConfig, ctx: experiment.RunContext):
-    rows: dict[str, dict] = {}
-    for label in LABELS:
-        if label in config.datasets:
-            for row, cells in run_table(getattr(config, label.lower()), ctx).items():
-                rows.setdefault(row, {}).update(cells)
-    table = {}
-    for row in ROWS:
-        table[row] = rows[row]
-        table[f"{row} (reported)"] = {f"{label} {column}": value for label, values in REPORTED[row].items()
-                                      for column, value in zip(("Acc", "dist_e"), values, strict=True)}
-    return table
+    measured = side_by_side({label: run_table(getattr(config, label.lower()), ctx)
+                             for label in LABELS if label in config.datasets})
+    reported = {row: {f"{label} {column}": value for label, values in by_label.items()
+                      for column, value in zip(("Acc", "dist_e"), values, strict=True)}
+                for row, by_label in REPORTED.items()}
+    return interleave_reported(measured, reported, ROWS)
 
 
 def main(argv=None):

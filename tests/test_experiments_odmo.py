@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
 
 from experiments import odmo_benchmark
 from jaxmotion.train.odmo import benchmark_variants
@@ -9,17 +10,6 @@ from jaxmotion.train.odmo import benchmark_variants
 HUMANACT12 = ["HumanAct12 Acc", "HumanAct12 FID_tr", "HumanAct12 Diversity", "HumanAct12 MModality",
               "HumanAct12 n-APD"]
 UESTC = ["UESTC Acc", "UESTC FID_tr", "UESTC FID_test", "UESTC Diversity", "UESTC MModality", "UESTC n-APD"]
-
-
-@pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    """One cache for the module: each smoke evaluator is trained once."""
-    return tmp_path_factory.mktemp("cache")
-
-
-def _smoke(module, tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    return module.main(["--profile", "smoke", "--out", str(tmp_path)])["rows"]
 
 
 def assert_generations_vary(rows, row, prefix):
