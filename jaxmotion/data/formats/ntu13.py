@@ -90,7 +90,7 @@ def _read_vibe_output(path: Path) -> object:
     try:
         return joblib.load(path)
     except Exception as err:  # joblib raises many kinds on a corrupt file
-        raise ValueError(f"{path}: cannot read {what} with joblib (truncated or corrupt?): {err!r}") from err
+        raise ValueError(f"{path}: cannot unpickle {what} with joblib (truncated or corrupt?): {err!r}") from err
 
 
 def _action_label(path: Path) -> int:
