@@ -63,7 +63,6 @@ import argparse
 import contextlib
 import dataclasses
 import os
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -74,7 +73,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import machine_header  # noqa: E402
+from benchmarks.timing import machine_header, time_pair  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24  # noqa: E402
 from jaxmotion.losses.actor import ActorLossWeights  # noqa: E402
 from jaxmotion.models.actor import ActorConfig, autoencode, decode, generate, init_actor  # noqa: E402
@@ -242,27 +241,6 @@ def check_generate_parity(config: ActorConfig, params, model) -> float:
 
 
 # ------------------------------------------------------------------------------------------------ timing
-
-
-def _stats(times: list[float]) -> dict:
-    return {"median": statistics.median(times), "min": min(times), "max": max(times)}
-
-
-def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
-    """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
-    ours()
-    if theirs is not None:
-        theirs()
-    times_ours, times_theirs = [], []
-    for _ in range(repeats):
-        tick = time.perf_counter()
-        ours()
-        times_ours.append(1e3 * (time.perf_counter() - tick))
-        if theirs is not None:
-            tick = time.perf_counter()
-            theirs()
-            times_theirs.append(1e3 * (time.perf_counter() - tick))
-    return _stats(times_ours), (_stats(times_theirs) if theirs is not None else None)
 
 
 def synthetic_batch(key: jax.Array, batch: int, frames: int, min_length: int | None = None) -> dict[str, jax.Array]:

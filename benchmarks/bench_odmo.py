@@ -75,7 +75,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -86,7 +85,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import machine_header
+from benchmarks.timing import machine_header, time_pair
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.mixtures import MODE_KS, choose_k, discover_modes_batched
@@ -122,27 +121,6 @@ THREADS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 
 
 def relative(a: float, b: float) -> float:
     return abs(a - b) / max(abs(a), 1e-30)
-
-
-def _stats(times: list[float]) -> dict:
-    return {"median": statistics.median(times), "min": min(times), "max": max(times)}
-
-
-def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
-    """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
-    ours()
-    if theirs is not None:
-        theirs()
-    times_ours, times_theirs = [], []
-    for _ in range(repeats):
-        tick = time.perf_counter()
-        ours()
-        times_ours.append(1e3 * (time.perf_counter() - tick))
-        if theirs is not None:
-            tick = time.perf_counter()
-            theirs()
-            times_theirs.append(1e3 * (time.perf_counter() - tick))
-    return _stats(times_ours), (_stats(times_theirs) if theirs is not None else None)
 
 
 def training(batch_size: int, teacher_forcing: TeacherForcing | None = None) -> ODMOTraining:

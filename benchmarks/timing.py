@@ -37,3 +37,24 @@ def machine_header() -> str:
     """Two lines naming the software and the device, printed above every benchmark table."""
     return (f"jax {jax.__version__}, numpy {np.__version__}, devices {jax.devices()}\n"
             f"CPU: {cpu_model()}, {os.cpu_count()} logical cores; Python {platform.python_version()}")
+
+
+def _stats(times: list[float]) -> dict:
+    return {"median": statistics.median(times), "min": min(times), "max": max(times)}
+
+
+def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
+    """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
+    ours()
+    if theirs is not None:
+        theirs()
+    times_ours, times_theirs = [], []
+    for _ in range(repeats):
+        tick = time.perf_counter()
+        ours()
+        times_ours.append(1e3 * (time.perf_counter() - tick))
+        if theirs is not None:
+            tick = time.perf_counter()
+            theirs()
+            times_theirs.append(1e3 * (time.perf_counter() - tick))
+    return _stats(times_ours), (_stats(times_theirs) if theirs is not None else None)

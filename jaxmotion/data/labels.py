@@ -21,14 +21,16 @@ def _concrete(values) -> np.ndarray | None:
     return np.asarray(values)
 
 
-def check_actions(actions, num_classes: int, *, where: str = "actions") -> None:
-    """``actions [N]`` must be integer class ids in ``[0, num_classes)``."""
+def check_actions(actions, num_classes: int, *, count: int | None = None, where: str = "actions") -> None:
+    """``actions [N]`` (``[count]`` when given) must be integer class ids in ``[0, num_classes)``. Shape and
+    dtype are checked even under ``jit`` (they are static); the values only where they are concrete."""
+    shape = np.shape(actions)
+    dtype = actions.dtype if hasattr(actions, "dtype") else np.asarray(actions).dtype
+    expected = "[N]" if count is None else f"[{count}]"
+    if len(shape) != 1 or (count is not None and shape[0] != count) or not np.issubdtype(dtype, np.integer):
+        raise ValueError(f"{where}: expected {expected} integer class ids, got {dtype} {tuple(shape)}")
     values = _concrete(actions)
-    if values is None:
-        return
-    if values.ndim != 1 or not np.issubdtype(values.dtype, np.integer):
-        raise ValueError(f"{where}: expected [N] integer class ids, got {values.dtype} {values.shape}")
-    if values.size and (values.min() < 0 or values.max() >= num_classes):
+    if values is not None and values.size and (values.min() < 0 or values.max() >= num_classes):
         bad = values[(values < 0) | (values >= num_classes)]
         raise ValueError(f"{where}: expected class ids in [0, {num_classes}) (the model's classes), got "
                          f"{sorted(set(bad.tolist()))[:5]}")

@@ -241,17 +241,6 @@ def _feedback_draws(key: jax.Array, config: A2MVAEConfig, num_frames: int) -> ja
     return jax.random.bernoulli(key, config.own_output_feedback, (num_frames,))
 
 
-def _check_actions(actions: jax.Array, num_classes: int, batch: int | None = None) -> jax.Array:
-    actions = jnp.asarray(actions)
-    if actions.ndim != 1 or (batch is not None and actions.shape[0] != batch):
-        expected = f"[{batch}]" if batch is not None else "[B]"
-        raise ValueError(f"actions: expected shape {expected} (B,), got {actions.shape}")
-    if not jnp.issubdtype(actions.dtype, jnp.integer):
-        raise ValueError(f"actions: expected integer class indices, got dtype {actions.dtype}")
-    check_actions(actions, num_classes)  # a one-hot of an out-of-range id is all zeros
-    return actions
-
-
 def a2m_vae_forward(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions: jax.Array,
                     config: A2MVAEConfig, mask: jax.Array | None = None) -> dict[str, jax.Array]:
     """Training-mode pass: posterior samples, decoding with the feedback quirk, prior alongside.
@@ -268,7 +257,8 @@ def a2m_vae_forward(params: A2MVAEParams, key: jax.Array, poses: jax.Array, acti
         raise ValueError(f"poses: expected shape [B, T, {config.pose_dim}] (B, T >= 1, F = pose_dim), "
                          f"got {poses.shape}")
     b, t_len, f = poses.shape
-    actions = _check_actions(actions, config.num_classes, b)
+    check_actions(actions, config.num_classes, count=b)
+    actions = jnp.asarray(actions)
     if mask is None:
         mask = jnp.ones((b, t_len), bool)
     else:
@@ -343,7 +333,8 @@ def a2m_generate(params: A2MVAEParams, key: jax.Array, actions: jax.Array, num_f
     """
     if not isinstance(num_frames, int) or num_frames < 1:
         raise ValueError(f"num_frames: expected a positive int, got {num_frames!r}")
-    actions = _check_actions(actions, config.num_classes)
+    check_actions(actions, config.num_classes)
+    actions = jnp.asarray(actions)
     b = actions.shape[0]
     one_hot = jax.nn.one_hot(actions, config.num_classes, dtype=jnp.float32)
     if config.time_counter:

@@ -220,9 +220,7 @@ _LSTM_NAMES = ("weight_ih", "weight_hh", "bias_ih", "bias_hh")
 
 
 def _named(prefix: str, module) -> dict[str, jax.Array]:
-    if isinstance(module, LinearParams):
-        return {f"{prefix}.weight": module.weight, f"{prefix}.bias": module.bias}
-    if isinstance(module, BatchNormParams):
+    if isinstance(module, (LinearParams, BatchNormParams)):
         return {f"{prefix}.weight": module.weight, f"{prefix}.bias": module.bias}
     if isinstance(module, BatchNormStats):
         return {f"{prefix}.running_mean": module.running_mean, f"{prefix}.running_var": module.running_var}
@@ -317,15 +315,6 @@ def _check_rows(name: str, array: jax.Array, batch: int, width: int) -> jax.Arra
     if array.shape != (batch, width):
         raise ValueError(f"{name}: expected [{batch}, {width}], got {tuple(array.shape)}")
     return array
-
-
-def _check_labels(actions: jax.Array, config: ODMOConfig, batch: int) -> jax.Array:
-    actions = jnp.asarray(actions)
-    if actions.shape != (batch,) or not jnp.issubdtype(actions.dtype, jnp.integer):
-        raise ValueError(f"actions: expected integer class ids of shape [{batch}], got {actions.dtype} "
-                         f"{tuple(actions.shape)}")
-    check_actions(actions, config.num_classes)
-    return actions
 
 
 # ------------------------------------------------------------------------------------------------ encoder
@@ -447,7 +436,7 @@ def generate(params: ODMOParams, code: jax.Array, actions: jax.Array, end: jax.A
     if code.ndim != 2 or code.shape[1] != config.code_dim:
         raise ValueError(f"code: expected [B, {config.code_dim}] (B, Z), got {tuple(code.shape)}")
     b = code.shape[0]
-    actions = _check_labels(actions, config, b)
+    check_actions(actions, config.num_classes, count=b)
     end = _check_rows("end", end, b, 3)
     trajectory = integrate(trajectory_velocities(params, code, actions, end, config))
     return {"poses": decode_motion(params, code, actions, trajectory, config), "trajectory": trajectory}
@@ -464,7 +453,7 @@ def forward(params: ODMOParams, stats: ODMOStats, key: jax.Array, poses: jax.Arr
     ``trajectory [B, T, 3]`` (predicted), ``poses [B, T, F]`` (decoded) and ``stats``.
     """
     poses = _check_poses("poses", poses, config, config.num_frames)
-    actions = _check_labels(actions, config, poses.shape[0])
+    check_actions(actions, config.num_classes, count=poses.shape[0])
     mu, logvar, stats = encode(params, stats, poses, config, train=train, groups=groups)
     code = sample_code(key, mu, logvar)
     velocities = trajectory_velocities(params, code, actions, poses[:, -1, :3], config)

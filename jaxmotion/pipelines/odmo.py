@@ -46,7 +46,7 @@ import numpy as np
 
 from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.pipeline import BatchSpec, gather_windows, sample_sequences, sequence_weights
+from jaxmotion.data.pipeline import BatchSpec, gather_windows, map_in_chunks, sample_sequences, sequence_weights
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.metrics.apd import mode_homogeneity
 from jaxmotion.metrics.clustering import adjusted_rand_index
@@ -92,13 +92,7 @@ def encode_windows(params: ODMOParams, stats: ODMOStats, config: ODMOConfig, joi
     joints = np.asarray(joints, np.float32)
     if joints.ndim != 4 or joints.shape[1:] != (config.num_frames, config.num_joints, 3):
         raise ValueError(f"joints: expected [N, {config.num_frames}, {config.num_joints}, 3], got {joints.shape}")
-    out = []
-    size = min(chunk, len(joints))
-    for first in range(0, len(joints), size):
-        part = joints[first:first + size]
-        padded = np.pad(part, [(0, size - len(part))] + [(0, 0)] * 3, mode="edge")
-        out.append(np.asarray(_encode_rows(params, stats, jnp.asarray(padded), config))[:len(part)])
-    return np.concatenate(out)
+    return map_in_chunks(lambda _, part: _encode_rows(params, stats, jnp.asarray(part), config), joints, chunk)
 
 
 def code_bank(params: ODMOParams, stats: ODMOStats, training, data: MotionDataset, key: jax.Array) -> CodeBank:
@@ -281,20 +275,13 @@ def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, 
     if actions.shape != (n,) or ends.shape != (n, 3):
         raise ValueError(f"actions, ends: expected [{n}] and [{n}, 3], got {actions.shape} and {ends.shape}")
     check_actions(actions, config.num_classes)
-    size = min(chunk, n)
-    poses, paths = [], []
-    for first in range(0, n, size):
-        rows = slice(first, first + size)
-        pad = size - len(codes[rows])
-        part = [np.pad(a[rows], [(0, pad)] + [(0, 0)] * (a.ndim - 1), mode="edge") for a in (codes, actions, ends)]
-        out = _generate_rows(params, *(jnp.asarray(a) for a in part), config)
-        poses.append(np.asarray(out["poses"])[:size - pad])
-        paths.append(np.asarray(out["trajectory"])[:size - pad])
-    joints = np.asarray(unflatten_poses(np.concatenate(poses)))
+    out = map_in_chunks(lambda _, rows: _generate_rows(params, *(jnp.asarray(a) for a in rows), config),
+                        (codes, actions, ends), chunk)
+    joints = np.asarray(unflatten_poses(out["poses"]))
     t = config.num_frames
     return {"joints": joints, "translation": joints[:, :, 0].copy(), "mask": np.ones((n, t), bool),
             "lengths": np.full(n, t, np.int32), "actions": actions.astype(np.int32), "codes": codes, "ends": ends,
-            "trajectory": np.concatenate(paths)}
+            "trajectory": out["trajectory"]}
 
 
 def mixtures_for(trained, training) -> ModesBatch | Conventional:
