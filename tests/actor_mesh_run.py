@@ -96,7 +96,8 @@ def subprocess_env(host_devices: int | None, **extra: str) -> dict[str, str]:
            "JAX_PLATFORMS": "cpu", **extra}
     cache = jax.config.jax_compilation_cache_dir
     if cache:
-        env.update(JAX_COMPILATION_CACHE_DIR=cache, JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS="0",
+        min_time = jax.config.jax_persistent_cache_min_compile_time_secs
+        env.update(JAX_COMPILATION_CACHE_DIR=cache, JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS=str(min_time),
                    JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES="0")
     return env
 
