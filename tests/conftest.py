@@ -18,6 +18,7 @@ settings.load_profile("jaxmotion")
 
 
 import functools  # noqa: E402
+import gc  # noqa: E402
 import pathlib  # noqa: E402
 import shutil  # noqa: E402
 import tempfile  # noqa: E402
@@ -38,6 +39,20 @@ jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
 def pytest_sessionfinish(session, exitstatus):
     shutil.rmtree(_XLA_CACHE, ignore_errors=True)
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _release_executables():
+    """Drop every compiled executable after each test module.
+
+    Each XLA:CPU executable holds a few memory mappings of its own until it is released; the whole suite in one
+    process compiles enough of them to pass Linux's limit of 65,530 mappings per process, and then LLVM's next
+    allocation fails inside compilation (CI: exit 139 in `backend_compile_and_load`, after 40 minutes). What a
+    later module needs again comes back from the session's compilation cache.
+    """
+    yield
+    jax.clear_caches()
+    gc.collect()
 
 
 @pytest.fixture(scope="session")
