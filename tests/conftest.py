@@ -29,8 +29,8 @@ import pytest  # noqa: E402
 # The experiment smokes build the same tiny models and evaluators again and again (each in its own jitted
 # closures, which jax's in-memory cache does not match up); a compilation cache kept for this test session
 # compiles each distinct computation once. Per session, so no test ever runs on a stale executable. Only
-# programs that took a while to compile are written: serialising every eager op (thousands of them) bought
-# nothing and once crashed jaxlib 0.10.2 inside `executable.serialize()` (CI, a plain division, exit 139).
+# programs that took a while to compile are written: an eager op compiles faster than its cache entry is
+# written and read back, and the suite runs thousands of them.
 _XLA_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-xla-")
 jax.config.update("jax_compilation_cache_dir", _XLA_CACHE)
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
