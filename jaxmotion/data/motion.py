@@ -5,8 +5,15 @@ per-frame array is the concatenation of all sequences along the frame axis, and 
 each sequence begins, so a dataset is a handful of arrays (cheap to cache as ``.npz``, to move to a
 device, and to gather fixed-length windows from).
 
-Axes: N sequences, F frames in all (the sum of the lengths), T frames of one sequence, J joints.
+Axes: N sequences, F frames in all (the sum of the lengths), T frames of one sequence, P persons, J joints.
 Frame: the library frame (metres, +Y up, facing +Z at rest, +X the subject's left).
+
+Persons: a one-person dataset (``persons == 1``, every single-action set) stores ``joints [F, J, 3]``, as it
+always has; a dataset of P >= 2 persons acting together (interactions, combat scenes) stores
+``joints [F, P, J, 3]``, the persons axis after the packed frame axis so that windows are gathered from
+either by the same frame indices. One sequence of P >= 2 persons is a ``Motion`` with ``joints [P, T, J, 3]``;
+the pipeline's batches are ``[B, P, T, J, 3]``. :func:`person_axis` gives any record's arrays with the
+axis, whatever P.
 """
 
 from __future__ import annotations
@@ -31,13 +38,15 @@ class Motion:
     """One sequence.
 
     Attributes:
-      joints: ``[T, J, 3]`` float32 joint positions, library frame, metres (translation included).
-      translation: ``[T, 3]`` float32 root (joint 0) translation.
-      rotations: ``[T, J, 3]`` float32 local axis-angle rotations (joint 0 global), or ``None`` for formats
-        that store joint positions only (Action2Motion's HumanAct12 and CMU mocap joints).
+      joints: ``[T, J, 3]`` float32 joint positions, library frame, metres (translation included); ``[P, T, J, 3]``
+        for P >= 2 persons.
+      translation: ``[T, 3]`` float32 root (joint 0) translation (``[P, T, 3]``).
+      rotations: ``[T, J, 3]`` float32 local axis-angle rotations (joint 0 global; ``[P, T, J, 3]``), or
+        ``None`` for formats that store joint positions only (Action2Motion's HumanAct12 and CMU mocap joints).
       action: class index.
       mode: index of the style mode within the class (``-1`` where unknown, as in real data).
-      subject: subject index (``-1`` where unknown).
+      subject: subject index (``-1`` where unknown); for several persons, the clip's performer id (NTU's P
+        field, which its cross-subject split uses).
       name: the clip's name in its source (file name, key), or a generated id.
     """
 
@@ -50,8 +59,12 @@ class Motion:
     name: str = ""
 
     @property
+    def persons(self) -> int:
+        return 1 if self.joints.ndim == 3 else self.joints.shape[0]
+
+    @property
     def num_frames(self) -> int:
-        return self.joints.shape[0]
+        return self.joints.shape[-3]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -64,13 +77,14 @@ class MotionDataset:
       class_names: one name per action class; ``actions`` index into it.
       skeleton: the joint layout of ``joints`` (and of ``rotations`` when present).
       fps: frames per second.
-      joints: ``[F, J, 3]`` float32.
-      translation: ``[F, 3]`` float32.
-      rotations: ``[F, J, 3]`` float32 axis-angle, or ``None``.
+      joints: ``[F, J, 3]`` float32; ``[F, P, J, 3]`` when ``persons`` >= 2.
+      translation: ``[F, 3]`` float32 (``[F, P, 3]``).
+      rotations: ``[F, J, 3]`` float32 axis-angle (``[F, P, J, 3]``), or ``None``.
       starts: ``[N + 1]`` int64 frame offsets; sequence i is frames ``starts[i]:starts[i + 1]``.
       actions, modes, subjects: ``[N]`` int32 labels (``-1`` where unknown).
       names: ``N`` clip names.
       mode_names: per class, the names of its style modes (empty tuples where unknown).
+      persons: P, the persons in every sequence (1: no persons axis in the arrays).
     """
 
     name: str
@@ -87,13 +101,18 @@ class MotionDataset:
     subjects: np.ndarray
     names: tuple[str, ...]
     mode_names: tuple[tuple[str, ...], ...] = ()
+    persons: int = 1
 
     def __post_init__(self):
-        n, f, j = len(self.actions), self.joints.shape[0], self.skeleton.num_joints
-        _expect(self.joints, (f, j, 3), "joints", f"[F, {j}, 3]")
-        _expect(self.translation, (f, 3), "translation", "[F, 3]")
+        if not isinstance(self.persons, int) or self.persons < 1:
+            raise ValueError(f"persons: expected a positive number of persons, got {self.persons!r}")
+        n, j = len(self.actions), self.skeleton.num_joints
+        f = self.joints.shape[0] if isinstance(self.joints, np.ndarray) and self.joints.ndim else 0
+        p, named_p = ((), "") if self.persons == 1 else ((self.persons,), f"{self.persons}, ")
+        _expect(self.joints, (f, *p, j, 3), "joints", f"[F, {named_p}{j}, 3]")
+        _expect(self.translation, (f, *p, 3), "translation", f"[F, {named_p}3]")
         if self.rotations is not None:
-            _expect(self.rotations, (f, j, 3), "rotations", f"[F, {j}, 3]")
+            _expect(self.rotations, (f, *p, j, 3), "rotations", f"[F, {named_p}{j}, 3]")
         _expect(self.starts, (n + 1,), "starts", "[N + 1]")
         for field in ("actions", "modes", "subjects"):
             _expect(getattr(self, field), (n,), field, "[N]")
@@ -118,10 +137,12 @@ class MotionDataset:
             raise IndexError(f"{self.name}/{self.split}: index {index} out of range for {len(self)} sequences")
         index %= len(self)
         frames = slice(int(self.starts[index]), int(self.starts[index + 1]))
+        # several persons: [T, P, ...] packed -> [P, T, ...] per record
+        cut = (lambda a: a[frames]) if self.persons == 1 else (lambda a: np.moveaxis(a[frames], 1, 0))
         return Motion(
-            joints=self.joints[frames],
-            translation=self.translation[frames],
-            rotations=None if self.rotations is None else self.rotations[frames],
+            joints=cut(self.joints),
+            translation=cut(self.translation),
+            rotations=None if self.rotations is None else cut(self.rotations),
             action=int(self.actions[index]),
             mode=int(self.modes[index]),
             subject=int(self.subjects[index]),
@@ -168,7 +189,8 @@ class MotionDataset:
         header = {
             "name": self.name, "split": self.split, "class_names": list(self.class_names),
             "skeleton": self.skeleton.name, "fps": self.fps, "names": list(self.names),
-            "mode_names": [list(m) for m in self.mode_names], "source": None if source is None else dict(source),
+            "mode_names": [list(m) for m in self.mode_names], "persons": self.persons,
+            "source": None if source is None else dict(source),
         }
         arrays = {k: getattr(self, k) for k in ("joints", "translation", "starts", "actions", "modes", "subjects")}
         if self.rotations is not None:
@@ -197,6 +219,7 @@ class MotionDataset:
             joints=arrays["joints"], translation=arrays["translation"], rotations=arrays.get("rotations"),
             starts=arrays["starts"], actions=arrays["actions"], modes=arrays["modes"], subjects=arrays["subjects"],
             names=tuple(header["names"]), mode_names=tuple(tuple(m) for m in header["mode_names"]),
+            persons=int(header.get("persons", 1)),  # files written before the persons axis hold one person
         )
 
 
@@ -205,16 +228,24 @@ class SourceMismatchError(ValueError):
 
 
 def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Sequence[str], skeleton: Skeleton,
-         fps: float, mode_names: Sequence[Sequence[str]] = ()) -> MotionDataset:
-    """Pack a list of ``Motion`` records (all with or all without rotations) into a dataset."""
+         fps: float, mode_names: Sequence[Sequence[str]] = (), persons: int = 1) -> MotionDataset:
+    """Pack a list of ``Motion`` records (all with or all without rotations, all of ``persons`` persons)
+    into a dataset."""
     has_rot = {m.rotations is not None for m in motions}
     if len(has_rot) > 1:
         raise ValueError("pack: either every motion has rotations or none has")
+    for m in motions:
+        if m.persons != persons:
+            raise ValueError(f"pack: motion {m.name!r} has {m.persons} persons, expected {persons} "
+                             f"(joints {m.joints.shape})")
     lengths = [m.num_frames for m in motions]
     j = skeleton.num_joints
+    p = () if persons == 1 else (persons,)
 
     def cat(arrays, shape):
-        return np.concatenate(arrays).astype(np.float32) if arrays else np.zeros((0, *shape), np.float32)
+        if persons > 1:  # [P, T, ...] records -> [T, P, ...] packed frames
+            arrays = [np.moveaxis(a, 0, 1) for a in arrays]
+        return np.concatenate(arrays).astype(np.float32) if arrays else np.zeros((0, *p, *shape), np.float32)
 
     return MotionDataset(
         name=name, split=split, class_names=tuple(class_names), skeleton=skeleton, fps=float(fps),
@@ -227,30 +258,41 @@ def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Seque
         subjects=np.array([m.subject for m in motions], np.int32),
         names=tuple(m.name for m in motions),
         mode_names=tuple(tuple(m) for m in mode_names),
+        persons=persons,
     )
 
 
 def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fps: float, *, name: str = "actor",
                split: str = "generated", modes: np.ndarray | None = None, names: Sequence[str] | None = None,
                mode_names: Sequence[Sequence[str]] = ()) -> MotionDataset:
-    """A batch dict (``joints``, ``translation``, optionally ``rotations`` ``[B, T, ...]``, ``lengths [B]``,
-    ``actions [B]``), as the pipeline and the generators' samplers give it -> the packed ``MotionDataset``
-    of its B motions, each cut to its length."""
+    """A batch dict (``joints``, ``translation``, optionally ``rotations`` ``[B, T, ...]``, or ``[B, P, T, ...]``
+    for several persons, ``lengths [B]``, ``actions [B]``), as the pipeline and the generators' samplers give
+    it -> the packed ``MotionDataset`` of its B motions, each cut to its length."""
     lengths = np.asarray(motions["lengths"]).astype(np.int64)
-    frames = np.shape(motions["joints"])[1]
+    joints = np.asarray(motions["joints"], np.float32)
+    if joints.ndim not in (4, 5):
+        raise ValueError(f"joints: expected [B, T, J, 3] or [B, P, T, J, 3], got shape {joints.shape}")
+    persons = 1 if joints.ndim == 4 else joints.shape[1]
+    frames = joints.shape[-3]
     keep = np.arange(frames)[None, :] < lengths[:, None]  # row-major order is the packed order
+
+    def frames_first(a):  # [B, P, T, ...] -> [B, T, P, ...]
+        a = np.asarray(a, np.float32)
+        return a if persons == 1 else np.moveaxis(a, 1, 2)
+
     count = len(lengths)
     return MotionDataset(
         name=name, split=split, class_names=tuple(class_names), skeleton=skeleton, fps=float(fps),
-        joints=np.asarray(motions["joints"], np.float32)[keep],
-        translation=np.asarray(motions["translation"], np.float32)[keep],
-        rotations=np.asarray(motions["rotations"], np.float32)[keep] if "rotations" in motions else None,
+        joints=frames_first(joints)[keep],
+        translation=frames_first(motions["translation"])[keep],
+        rotations=frames_first(motions["rotations"])[keep] if "rotations" in motions else None,
         starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
         actions=np.asarray(motions["actions"], np.int32),
         modes=np.full(count, -1, np.int32) if modes is None else np.asarray(modes, np.int32),
         subjects=np.full(count, -1, np.int32),
         names=tuple(f"{name}-{i}" for i in range(count)) if names is None else tuple(names),
         mode_names=tuple(tuple(m) for m in mode_names),
+        persons=persons,
     )
 
 
@@ -258,9 +300,9 @@ def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
     """The sequences of several datasets with the same classes and skeleton, one after another."""
     first = parts[0]
     for p in parts[1:]:
-        if p.class_names != first.class_names or p.skeleton is not first.skeleton:
-            raise ValueError(f"concatenate: {p.name}/{p.split} has other classes or another skeleton than "
-                             f"{first.name}/{first.split}")
+        if p.class_names != first.class_names or p.skeleton is not first.skeleton or p.persons != first.persons:
+            raise ValueError(f"concatenate: {p.name}/{p.split} has other classes, another skeleton or another "
+                             f"number of persons than {first.name}/{first.split}")
     rotations = [p.rotations for p in parts]
     return dataclasses.replace(
         first, split=split,
@@ -273,6 +315,15 @@ def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
         subjects=np.concatenate([p.subjects for p in parts]),
         names=tuple(n for p in parts for n in p.names),
     )
+
+
+def person_axis(array: np.ndarray | None, persons: int, *, axis: int) -> np.ndarray | None:
+    """``array`` with its persons axis at ``axis``, inserted (of size 1) when ``persons`` is 1: one code path
+    for one and several persons. ``axis``: where P sits (0 for a ``Motion``'s arrays, 1 for a dataset's
+    packed ones and for batches)."""
+    if array is None:
+        return None
+    return np.expand_dims(array, axis) if persons == 1 else array
 
 
 def _expect(array: np.ndarray, shape: tuple[int, ...], field: str, named: str) -> None:

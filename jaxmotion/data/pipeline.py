@@ -9,7 +9,12 @@ a sequence is clipped to its last frame, so "pad by repeating the last frame" (A
 ODMO) is the clip itself, and ActFormer's "snake" padding (0..n-1, n-2..1, 0..) is a reflection of the
 index. A mask marks the real frames.
 
-Axes: N sequences, F packed frames, B batch, T window, J joints, C channels.
+Several persons: a dataset of P >= 2 persons gives batches ``[B, P, T, J, 3]``; the persons share each
+window's frames, the canonical frame is set by the first person and applied to all (their placement
+relative to each other is the data), and ``BatchSpec.permute_persons`` shuffles their order per window
+(ActFormer's augmentation).
+
+Axes: N sequences, F packed frames, B batch, P persons, T window, J joints, C channels.
 """
 
 from __future__ import annotations
@@ -135,12 +140,30 @@ def window_frames(starts: jax.Array, lengths: jax.Array, window: int,
 # --- canonical frame and model inputs --------------------------------------------------------------
 
 
+def _fold_persons(fn):
+    """Lift ``fn(joints [B, T, J, 3], translation [B, T, 3], rotations | None, *args)`` to several persons
+    ``[B, P, T, ...]``: the persons' frames run one after another, so frame 0 is the first person's."""
+
+    @functools.wraps(fn)
+    def lifted(joints, translation, rotations, *args):
+        if joints.ndim == 4:
+            return fn(joints, translation, rotations, *args)
+        b, p, t = joints.shape[:3]
+        fold = lambda a: None if a is None else a.reshape(b, p * t, *a.shape[3:])  # noqa: E731
+        unfold = lambda a: None if a is None else a.reshape(b, p, t, *a.shape[2:])  # noqa: E731
+        return tuple(unfold(a) for a in fn(fold(joints), fold(translation), fold(rotations), *args))
+
+    return lifted
+
+
+@_fold_persons
 def canonicalize_motion(joints: jax.Array, translation: jax.Array, rotations: jax.Array | None, left_hip: int,
                         right_hip: int) -> tuple[jax.Array, jax.Array, jax.Array | None]:
     """Root of frame 0 to the origin, facing +Z at frame 0 (a rotation about the vertical only).
 
     ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]`` axis-angle with joint 0
-    global (or None). One rigid map moves all three, so FK of the outputs equals the output joints.
+    global (or None); or all three ``[B, P, T, ...]``, the first person's frame 0 setting the map for every
+    person. One rigid map moves all three, so FK of the outputs equals the output joints.
     """
     rot, shift = canonicalize_transform(joints, left_hip, right_hip)  # [B, 3, 3], [B, 3]
     new_joints = jnp.einsum("bij,btkj->btki", rot, joints, precision=_HIGHEST) + shift[:, None, None]
@@ -150,11 +173,14 @@ def canonicalize_motion(joints: jax.Array, translation: jax.Array, rotations: ja
     return new_joints, new_translation, rotations.at[..., 0, :].set(matrix_to_axis_angle(root_mats))
 
 
-def to_origin(joints: jax.Array, translation: jax.Array) -> tuple[jax.Array, jax.Array]:
+@_fold_persons
+def to_origin(joints: jax.Array, translation: jax.Array, rotations: jax.Array | None = None
+              ) -> tuple[jax.Array, jax.Array, jax.Array | None]:
     """Translate so the root of frame 0 is at the origin, without rotating (Action2Motion, ODMO):
-    ``[B, T, J, 3], [B, T, 3]`` -> same."""
+    ``[B, T, J, 3], [B, T, 3]`` (or ``[B, P, T, ...]``: the first person's root) -> same; rotations pass
+    through."""
     origin = joints[:, :1, 0, :]  # [B, 1, 3]
-    return joints - origin[:, :, None], translation - origin
+    return joints - origin[:, :, None], translation - origin, rotations
 
 
 # --- batches ---------------------------------------------------------------------------------------
@@ -167,7 +193,8 @@ class BatchSpec:
     ``window``: T. ``min_length``: when set, each window holds a random-length segment of
     ``[min_length, min(n, window)]`` frames followed by padding (ACTOR's 60-100 fine-tuning); otherwise a
     segment of ``min(n, window)`` frames. ``canonical``: root of frame 0 at the origin facing +Z;
-    otherwise only the root of frame 0 at the origin (Action2Motion, ODMO).
+    otherwise only the root of frame 0 at the origin (Action2Motion, ODMO). ``permute_persons``: each
+    window's persons in a random order (datasets of several persons only).
     """
 
     batch_size: int
@@ -176,6 +203,7 @@ class BatchSpec:
     min_length: int | None = None
     padding: Padding = "last"
     canonical: bool = True
+    permute_persons: bool = False
 
     def __post_init__(self):
         if self.batch_size < 1 or self.window < 1:
@@ -191,6 +219,8 @@ def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
     names = dataset.skeleton.joint_names
     if spec.canonical and not {"left_hip", "right_hip"} <= set(names):
         raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
+    if spec.permute_persons and dataset.persons < 2:
+        raise ValueError(f"permute_persons: {dataset.name}/{dataset.split} has one person per sequence")
     frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
     if dataset.rotations is not None:
         frames_of["rotations"] = jnp.asarray(dataset.rotations)
@@ -209,7 +239,7 @@ def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
 # constants, which makes compilation and every call slow for large datasets.
 @functools.partial(jax.jit, static_argnames=("spec", "hips"))
 def _gather(tables: dict, ids: jax.Array, key: jax.Array, spec: BatchSpec, hips: tuple[int, int] | None) -> dict:
-    """Windows of sequences ``ids [B]``: lengths, crops and canonical frame as ``spec`` says."""
+    """Windows of sequences ``ids [B]``: lengths, crops, persons' order and canonical frame as ``spec`` says."""
     k_len, k_crop = jax.random.split(key)
     n = tables["lengths"][ids]
     seg = jnp.minimum(n, spec.window) if spec.min_length is None else random_lengths(k_len, n, spec.min_length,
@@ -217,13 +247,18 @@ def _gather(tables: dict, ids: jax.Array, key: jax.Array, spec: BatchSpec, hips:
     crops = random_crop_starts(k_crop, n, seg)
     frames, mask = window_frames(tables["starts"][ids] + crops, seg, spec.window, spec.padding)
     out = {k: v[frames] for k, v in tables["frames"].items()}
-    if spec.canonical:
-        out["joints"], out["translation"], rotations = canonicalize_motion(
-            out["joints"], out["translation"], out.get("rotations"), *hips)
-        if rotations is not None:
-            out["rotations"] = rotations
-    else:
-        out["joints"], out["translation"] = to_origin(out["joints"], out["translation"])
+    if tables["frames"]["joints"].ndim == 4:  # several persons: [B, T, P, ...] -> [B, P, T, ...]
+        out = {k: jnp.moveaxis(v, 2, 1) for k, v in out.items()}
+        if spec.permute_persons:  # its own key, so the crops match those of an unpermuted batch
+            persons = out["joints"].shape[1]
+            keys = jax.random.split(jax.random.fold_in(key, 2), ids.shape[0])
+            order = jax.vmap(lambda k: jax.random.permutation(k, persons))(keys)  # [B, P]
+            out = {k: jnp.take_along_axis(v, order.reshape(order.shape + (1,) * (v.ndim - 2)), axis=1)
+                   for k, v in out.items()}
+    move = (lambda *a: canonicalize_motion(*a, *hips)) if spec.canonical else to_origin
+    out["joints"], out["translation"], rotations = move(out["joints"], out["translation"], out.get("rotations"))
+    if rotations is not None:
+        out["rotations"] = rotations
     return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
 
 
@@ -289,7 +324,7 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
     """``step -> batch`` with static shapes, deterministic in ``(key, step)``; the dataset moves to device once.
 
     The batch is a dict: ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]``
-    (when the dataset has them), ``mask [B, T]`` (real frames; padding repeats the segment's last frame or
+    (when the dataset has them; ``[B, P, T, ...]`` for a dataset of several persons), ``mask [B, T]`` (real frames; padding repeats the segment's last frame or
     snakes, per ``spec.padding``), ``lengths [B]`` (real frames per window), ``actions``, ``modes``,
     ``subjects`` ``[B]``. With a :class:`PairSpec`: ``{"first": batch, "second": batch, "same": [B]}``,
     the partners' windows drawn like the first ones'.
