@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 from jaxmotion.geometry.skeletons import (
     CMU_MOCAP20,
+    GTA22,
     NTU25,
     SMPL24,
     UESTC18,
@@ -16,13 +17,13 @@ from jaxmotion.geometry.skeletons import (
     topological_order,
 )
 
-ALL_SKELETONS = [SMPL24, CMU_MOCAP20, UESTC18, NTU25]
+ALL_SKELETONS = [SMPL24, CMU_MOCAP20, UESTC18, NTU25, GTA22]
 
 
 @pytest.mark.parametrize(
     ("skeleton", "num_joints"),
-    [(SMPL24, 24), (CMU_MOCAP20, 20), (UESTC18, 18), (NTU25, 25)],
-    ids=["smpl", "cmu", "uestc", "ntu"],
+    [(SMPL24, 24), (CMU_MOCAP20, 20), (UESTC18, 18), (NTU25, 25), (GTA22, 22)],
+    ids=["smpl", "cmu", "uestc", "ntu", "gta"],
 )
 def test_skeletons_have_the_right_joint_counts(skeleton, num_joints):
     assert skeleton.num_joints == len(skeleton.parents) == len(skeleton.joint_names) == num_joints

@@ -27,10 +27,10 @@ from typing import Any
 import numpy as np
 
 from jaxmotion.files import atomic_file
-from jaxmotion.geometry.skeletons import CMU_MOCAP20, NTU25, SMPL24, UESTC18, Skeleton
+from jaxmotion.geometry.skeletons import CMU_MOCAP20, GTA22, NTU25, SMPL24, UESTC18, Skeleton
 
 #: Joint layouts a dataset may use, by the name stored in cache files.
-SKELETONS = {s.name: s for s in (SMPL24, CMU_MOCAP20, UESTC18, NTU25)}
+SKELETONS = {s.name: s for s in (SMPL24, CMU_MOCAP20, UESTC18, NTU25, GTA22)}
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -204,3 +204,17 @@ NTU25 = Skeleton(
     ),
     parents=(-1, 0, 20, 2, 20, 4, 5, 6, 20, 8, 9, 10, 0, 12, 13, 14, 0, 16, 17, 18, 1, 7, 7, 11, 11),
 )
+
+# GTA Combat's 22 joints (ActFormer's gta_adjacency.h5 parents, FACTS 1.4). ActFormer publishes no names:
+# the tree is JTA's 22-joint GTA-V layout (head top, head centre, neck, right then left clavicle-shoulder-
+# elbow-wrist, spine0 (top) .. spine4 (pelvis), right then left hip-knee-ankle) with spine4 and head_top
+# swapped so that the pelvis is joint 0 (its head joint, 15, is then the head top); sides follow JTA.
+GTA22 = Skeleton(
+    name="GTA-22 (GTA Combat)",
+    joint_names=(
+        "pelvis", "head_center", "neck", "right_clavicle", "right_shoulder", "right_elbow", "right_wrist",
+        "left_clavicle", "left_shoulder", "left_elbow", "left_wrist", "spine0", "spine1", "spine2", "spine3",
+        "head_top", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle",
+    ),
+    parents=(-1, 2, 11, 2, 3, 4, 5, 2, 7, 8, 9, 12, 13, 14, 0, 1, 0, 16, 17, 0, 19, 20),
+)
