@@ -34,7 +34,17 @@ from jaxmotion.geometry.rotations import (
     rot6d_to_matrix,
     to_matrix,
 )
-from jaxmotion.geometry.skeletons import CMU_MOCAP20, NTU25, SMPL24, UESTC18, VIBE18, Skeleton, bones, topological_order
+from jaxmotion.geometry.skeletons import (
+    CMU_MOCAP20,
+    GTA22,
+    NTU25,
+    SMPL24,
+    UESTC18,
+    VIBE18,
+    Skeleton,
+    bones,
+    topological_order,
+)
 
 __all__ = [
     "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model",
@@ -44,5 +54,5 @@ __all__ = [
     "EULER_ORDERS", "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "euler_to_matrix",
     "from_matrix", "matrix_to_axis_angle", "matrix_to_euler", "matrix_to_quaternion", "matrix_to_rot6d",
     "quaternion_to_axis_angle", "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",
-    "CMU_MOCAP20", "NTU25", "SMPL24", "UESTC18", "VIBE18", "Skeleton", "bones", "topological_order",
+    "CMU_MOCAP20", "GTA22", "NTU25", "SMPL24", "UESTC18", "VIBE18", "Skeleton", "bones", "topological_order",
 ]

@@ -57,13 +57,8 @@ import jax
 import jax.numpy as jnp
 
 from jaxmotion.geometry.kinematics import forward_kinematics
-from jaxmotion.geometry.rotations import (
-    REPRESENTATIONS,
-    axis_angle_to_matrix,
-    from_matrix,
-    matrix_to_axis_angle,
-    to_matrix,
-)
+from jaxmotion.geometry.representations import rotation_features, split_rotation_features
+from jaxmotion.geometry.rotations import REPRESENTATIONS, axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.nn.core import (
@@ -618,22 +613,18 @@ def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, action
 
 def to_features(rotations: jax.Array, translation: jax.Array, rep: str = "rot6d") -> jax.Array:
     """ACTOR's input tensor ``[B, T, J + 1, C]``: each joint's rotation in ``rep``, then one extra "joint"
-    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2).
+    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2;
+    :func:`jaxmotion.geometry.representations.rotation_features`).
 
     ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``; C = 6 (rot6d), 4, 3 or 9 (matrix).
     """
-    feats = from_matrix(axis_angle_to_matrix(rotations), rep)
-    feats = feats.reshape(*rotations.shape[:3], -1)  # [B, T, J, C]
-    relative = translation - translation[:, :1]
-    trans_row = jnp.pad(relative, ((0, 0), (0, 0), (0, feats.shape[-1] - 3)))[:, :, None]
-    return jnp.concatenate([feats, trans_row], axis=2)
+    return rotation_features(rotations, translation, rep, origin="first")
 
 
 def from_features(features: jax.Array, rep: str = "rot6d") -> tuple[jax.Array, jax.Array]:
     """Inverse of :func:`to_features`: ``[B, T, J + 1, C] -> (rotations [B, T, J, 3], translation [B, T, 3])``,
     the translation relative to frame 0."""
-    rots = features[:, :, :-1].reshape(*features.shape[:2], features.shape[2] - 1, *REPRESENTATIONS[rep])
-    return matrix_to_axis_angle(to_matrix(rots, rep)), features[:, :, -1, :3]
+    return split_rotation_features(features, rep)
 
 
 def motions_from_features(x: jax.Array, mask: jax.Array, rep: str, skeleton: Skeleton) -> dict[str, jax.Array]:
