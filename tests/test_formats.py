@@ -511,7 +511,11 @@ def test_turning_roots_by_a_reflection_is_an_error():
 
 def test_real_loaders_registry_is_read_only_and_complete(tmp_path):
     assert isinstance(REAL_LOADERS, types.MappingProxyType)
-    assert set(REAL_LOADERS) == {"humanact12", "humanact12-joints", "uestc", "ntu13", "ntu13-smpl", "cmu", "cmu7"}
+    assert set(REAL_LOADERS) == {
+        "humanact12", "humanact12-joints", "uestc", "ntu13", "ntu13-smpl", "cmu", "cmu7",  # ACTOR, A2M, ODMO
+        "ntu1p", "ntu2p", "ntu1p-xview", "ntu2p-xview", "ntu1p-skeletons", "ntu2p-skeletons", "ntu1p-smpl",
+        "combat-2p", "combat-3p", "combat-4p", "combat-5p", "babel120", "babel120-amass",  # ActFormer
+    }
     with pytest.raises(TypeError):
         REAL_LOADERS["extra"] = load_uestc  # type: ignore[index]
     write_cmu(tmp_path)
