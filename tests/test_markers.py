@@ -64,6 +64,9 @@ def test_a_larger_body_carries_proportionally_larger_markers(markers):
     # per-body offsets [B, 24, 3] with motions [B, T, 24, 3]
     both = markers_from_rotations(markers, jnp.zeros((2, 3, 24, 3)), jnp.zeros((2, 3, 3)), jnp.stack([offsets, 1.1 * offsets]))
     np.testing.assert_allclose(np.asarray(both)[1, 2], large[0], atol=1e-6)
+    # per-frame offsets [F, 24, 3] with poses [F, 24, 3] (the generator's packed frames)
+    frames = markers_from_rotations(markers, jnp.zeros((2, 24, 3)), jnp.zeros((2, 3)), jnp.stack([offsets, 1.1 * offsets]))
+    np.testing.assert_allclose(np.asarray(frames)[1], large[0], atol=1e-6)
 
 
 @SETS

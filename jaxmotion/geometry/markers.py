@@ -141,5 +141,6 @@ def markers_from_rotations(markers: MarkerSet, rotations: jax.Array, translation
     body, ``...`` the leading axes) -> ``[..., T, K, 3]``."""
     global_rot, joints = forward_kinematics_transforms(axis_angle_to_matrix(rotations), translation, offsets,
                                                       SMPL24.parents)
-    scale = body_scale(offsets)
-    return place_markers(markers, global_rot, joints, scale[..., None] if jnp.ndim(scale) else scale)
+    bodies = jnp.shape(offsets)[:-2]  # a prefix of the poses' leading axes (forward kinematics checks it)
+    scale = body_scale(offsets).reshape(bodies + (1,) * (rotations.ndim - 2 - len(bodies)))
+    return place_markers(markers, global_rot, joints, scale)

@@ -7,7 +7,9 @@ sequences (jax, all frames at once, always ``_CHUNK_FRAMES`` of them so each pas
 -> rotations -> FK about the origin; then per sequence the root path (:mod:`grounding`), which a
 variant's capture-noise model may perturb along with the angles (whose rotations are then recomputed);
 finally rotations -> float32 axis-angle (what is stored) -> FK along the root path from exactly those,
-so ``joints == forward_kinematics(rotations, translation)``.
+so ``joints == forward_kinematics(rotations, translation)``. A variant on another skeleton (NTU-25,
+GTA-22) reads its joints off that body through a marker set (:mod:`jaxmotion.geometry.markers`), applies
+its capture model to them and stores joints only.
 
 Speed, measured on a 2-core CPU: synth-uestc's 24 000 sequences (2.3 M frames) take ~87 s, ~3.4 ms per
 sequence, most of it numpy posing; the one-off compilation of the three jax passes takes ~5 s per
@@ -17,6 +19,7 @@ process (the engine before fixed-size chunks and the jax angle conversion: ~157 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import zlib
 from collections.abc import Callable, Iterator, Mapping
 
@@ -27,13 +30,15 @@ import numpy as np
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.synthetic import anatomy, grounding
 from jaxmotion.data.synthetic.body import Subject, sample_subject
+from jaxmotion.data.synthetic.scene import Scene, SceneClass, pose_scenes
 from jaxmotion.data.synthetic.take import Take, finish
 from jaxmotion.geometry import rotations
 from jaxmotion.geometry.kinematics import (
     forward_kinematics,
     forward_kinematics_transforms,
 )
-from jaxmotion.geometry.skeletons import SMPL24
+from jaxmotion.geometry.markers import MarkerSet, markers_from_rotations
+from jaxmotion.geometry.skeletons import SMPL24, Skeleton
 from jaxmotion.progress import Progress
 
 _PARENTS = SMPL24.parents
@@ -76,6 +81,16 @@ class Variant:
         fps, rng) -> (angles, translation)``: from the clean anatomical angles (degrees), the grounded root
         path and the clean body posed about the origin, the noisy angles (within the joint limits) and
         root path that are stored; None for clean motion.
+      markers: the output skeleton's joints as markers on the SMPL-24 body; then only joints are stored
+        (``rotations`` None, ``translation`` = joint 0). None: SMPL-24 joints and rotations.
+      joint_noise: optional capture model of the output joints ``(joints [T, K, 3], skeleton, fps, rng) ->
+        joints`` (with ``markers`` only), e.g. :class:`~noise.KinectNoise`.
+      stream: the variant whose random streams (subjects, sequences) this one draws, to store the same
+        motions another way (the same takes, another skeleton or capture model); default its own name.
+      persons: P; with P >= 2 the classes are :class:`~scene.SceneClass` es performed by P distinct subjects
+        of the split (the clip's subject label is the first person's).
+      swapped_copies: also store each clip with its persons in reverse order, right after it, named
+        ``...-flip`` (ActFormer's two-person splits hold these).
     """
 
     name: str
@@ -84,6 +99,32 @@ class Variant:
     lengths: tuple[int, int]
     splits: Mapping[str, Split]
     noise: Callable | None = None
+    markers: MarkerSet | None = None
+    joint_noise: Callable | None = None
+    stream: str | None = None
+    persons: int = 1
+    swapped_copies: bool = False
+
+    def __post_init__(self):
+        if self.joint_noise is not None and self.markers is None:
+            raise ValueError(f"{self.name}: joint_noise acts on marker joints; give markers too")
+        scenes = {isinstance(c, SceneClass) for c in self.classes}
+        if scenes != {self.persons > 1}:
+            raise ValueError(f"{self.name}: {self.persons} person(s) need "
+                             f"{'SceneClass' if self.persons > 1 else 'ActionClass'} classes")
+        if self.swapped_copies and self.persons < 2:
+            raise ValueError(f"{self.name}: swapped_copies needs several persons")
+        for name, split in self.splits.items():
+            if len(split.subjects) < self.persons:
+                raise ValueError(f"{self.name}/{name}: {len(split.subjects)} subjects for scenes of {self.persons}")
+
+    @property
+    def skeleton(self) -> Skeleton:
+        return SMPL24 if self.markers is None else self.markers.skeleton
+
+    @property
+    def seed_name(self) -> str:
+        return self.stream or self.name
 
     @property
     def class_names(self) -> tuple[str, ...]:
@@ -104,7 +145,7 @@ def _key(text: str) -> int:
 
 def subject(variant: Variant, index: int, seed: int) -> Subject:
     """Subject ``index`` of ``variant`` (the same body in every split and sequence)."""
-    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.name), _SUBJECT_STREAM, index]))
+    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _SUBJECT_STREAM, index]))
     return sample_subject(index, rng)
 
 
@@ -139,7 +180,7 @@ class _Posed:
 
 def _perform(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
              bodies: Mapping[int, Subject]) -> _Posed:
-    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.name), _key(split), index]))
+    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _key(split), index]))
     who = bodies[int(rng.choice(variant.splits[split].subjects))]
     num_frames = int(rng.integers(variant.lengths[0], variant.lengths[1] + 1))
     cls = variant.classes[action]
@@ -148,6 +189,19 @@ def _perform(variant: Variant, split: str, seed: int, index: int, action: int, m
     angles = finish(take)
     return _Posed(angles, take.contact, take.ground, np.radians(angles[:, 0, 0]), take.flight_speed, take.flight_carry,
                   who, rng)
+
+
+def _stage(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
+           bodies: Mapping[int, Subject]) -> Scene:
+    """Scene ``index`` of a split of several persons, performed (not yet posed)."""
+    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _key(split), index]))
+    pool = variant.splits[split].subjects
+    who = [bodies[pool[int(i)]] for i in rng.choice(len(pool), variant.persons, replace=False)]
+    num_frames = int(rng.integers(variant.lengths[0], variant.lengths[1] + 1))
+    cls = variant.classes[action]
+    scene = Scene(num_frames, variant.fps, rng, who, cls.modes[mode])
+    cls.perform(scene)
+    return scene
 
 
 # --- jax passes over a chunk of frames -------------------------------------------------------------------
@@ -166,6 +220,11 @@ def _pose_in_world(rotmats, translation, offsets):
     axis_angle = rotations.matrix_to_axis_angle(rotmats)
     return axis_angle, forward_kinematics(rotations.axis_angle_to_matrix(axis_angle), translation, offsets,
                                           _PARENTS)
+
+
+@functools.partial(jax.jit, static_argnames="markers")
+def _markers(markers, axis_angle, translation, offsets):
+    return markers_from_rotations(markers, axis_angle, translation, offsets)
 
 
 def _padded(array: np.ndarray) -> np.ndarray:
@@ -203,20 +262,61 @@ def _chunk(variant: Variant, posed: list[_Posed]):
         translation[frames] = root
     if variant.noise is not None:
         rotmats = anatomy.angles_to_rotmats_f32(_padded(angles))
-    axis_angle, joints = (np.asarray(a)[: starts[-1]] for a in _pose_in_world(rotmats, _padded(translation),
-                                                                               offsets))
+    padded_translation = _padded(translation)
+    axis_angle, joints = (np.asarray(a)[: starts[-1]] for a in _pose_in_world(rotmats, padded_translation, offsets))
+    if variant.markers is not None:  # another skeleton: its joints off the same body, then its capture model
+        joints = np.array(_markers(variant.markers, _padded(axis_angle), padded_translation, offsets))[: starts[-1]]
+        axis_angle = None
+        if variant.joint_noise is not None:
+            for i, p in enumerate(posed):
+                frames = slice(starts[i], starts[i + 1])
+                joints[frames] = variant.joint_noise(joints[frames], variant.skeleton, variant.fps, p.rng)
+        translation = joints[:, 0].copy()
     return axis_angle, translation, joints, starts
 
 
-def _batches(posed: Iterator[_Posed]) -> Iterator[list[_Posed]]:
-    """Consecutive runs of posed sequences with at most ``_CHUNK_FRAMES`` frames in all."""
+def _scene_chunk(variant: Variant, scenes: list[Scene]):
+    """Resolve, pose and store scenes of at most ``_CHUNK_FRAMES`` frames (all persons): ``(axis-angle,
+    translation, joints, starts)`` packed ``[F, P, ...]`` as :func:`_chunk` gives them for one person."""
+    posed = pose_scenes(scenes, _CHUNK_FRAMES)
+    people = [(scene.takes[p], angles[p], roots[p]) for scene, (angles, roots) in zip(scenes, posed)
+              for p in range(scene.persons)]
+    lengths = [len(a) for _, a, _ in people]
+    bounds = np.concatenate([[0], np.cumsum(lengths)])
+    offsets = _padded(np.concatenate([np.broadcast_to(t.subject.offsets, (n, 24, 3)) for (t, _, _), n in zip(people, lengths)]))
+    rotmats = anatomy.angles_to_rotmats_f32(_padded(np.concatenate([a for _, a, _ in people])))
+    translation = _padded(np.concatenate([r for _, _, r in people]))
+    axis_angle, joints = (np.array(a)[: bounds[-1]] for a in _pose_in_world(rotmats, translation, offsets))
+    if variant.markers is not None:
+        joints = np.array(_markers(variant.markers, _padded(axis_angle), translation, offsets))[: bounds[-1]]
+        for i, (take, _, _) in enumerate(people):
+            if variant.joint_noise is not None:
+                frames = slice(bounds[i], bounds[i + 1])
+                joints[frames] = variant.joint_noise(joints[frames], variant.skeleton, variant.fps, take.rng)
+        translation = joints[:, 0]
+    translation = translation[: bounds[-1]]
+
+    def per_scene(a):  # person-major frames -> [F, P, ...] scene by scene
+        out, k = [], 0
+        for scene in scenes:
+            out.append(np.stack([a[bounds[k + p]:bounds[k + p + 1]] for p in range(scene.persons)], axis=1))
+            k += scene.persons
+        return np.concatenate(out)
+
+    starts = np.concatenate([[0], np.cumsum([s.takes[0].num_frames for s in scenes])])
+    return (None if variant.markers is not None else per_scene(axis_angle)), per_scene(translation), \
+        per_scene(joints), starts
+
+
+def _batches(items: Iterator, frames_of: Callable) -> Iterator[list]:
+    """Consecutive runs of items with at most ``_CHUNK_FRAMES`` frames in all."""
     batch, frames = [], 0
-    for p in posed:
-        if batch and frames + len(p.angles) > _CHUNK_FRAMES:
+    for item in items:
+        if batch and frames + frames_of(item) > _CHUNK_FRAMES:
             yield batch
             batch, frames = [], 0
-        batch.append(p)
-        frames += len(p.angles)
+        batch.append(item)
+        frames += frames_of(item)
     if batch:
         yield batch
 
@@ -229,25 +329,53 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
     if count is not None:
         actions, modes = actions[:count], modes[:count]
     bodies = {s: subject(variant, s, seed) for s in variant.splits[split].subjects}
-    posed = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
+    if variant.persons == 1:
+        items = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
+        frames_of, chunk, first_subject = (lambda p: len(p.angles)), _chunk, (lambda p: p.subject.index)
+    else:
+        items = (_stage(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
+        frames_of, chunk = (lambda s: s.persons * s.takes[0].num_frames), _scene_chunk
+        first_subject = lambda s: s.takes[0].subject.index  # noqa: E731
     parts, subjects = [], []
     bar = Progress(len(actions), unit="sequence", label=f"[data] generating {variant.name}/{split}") if progress else None
-    for batch in _batches(posed):
-        subjects += [p.subject.index for p in batch]
-        parts.append(_chunk(variant, batch))
+    for batch in _batches(items, frames_of):
+        subjects += [first_subject(p) for p in batch]
+        parts.append(chunk(variant, batch))
         if bar is not None:
             bar.update(len(subjects), {})
     if bar is not None:
         bar.close()
     lengths = np.concatenate([np.diff(p[3]) for p in parts]) if parts else np.zeros(0, int)
-    empty = np.zeros((0, 24, 3), np.float32)
-    return MotionDataset(
-        name=variant.name, split=split, class_names=variant.class_names, skeleton=SMPL24, fps=variant.fps,
-        joints=np.concatenate([p[2] for p in parts]) if parts else empty,
-        translation=np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, 3), np.float32),
-        rotations=np.concatenate([p[0] for p in parts]) if parts else empty,
+    skeleton = variant.skeleton
+    persons = () if variant.persons == 1 else (variant.persons,)
+
+    def stacked(k, shape):
+        return np.concatenate([p[k] for p in parts]) if parts else np.zeros((0, *persons, *shape), np.float32)
+
+    data = MotionDataset(
+        name=variant.name, split=split, class_names=variant.class_names, skeleton=skeleton, fps=variant.fps,
+        joints=stacked(2, (skeleton.num_joints, 3)),
+        translation=stacked(1, (3,)),
+        rotations=None if variant.markers is not None else stacked(0, (24, 3)),
         starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
         actions=actions, modes=modes, subjects=np.array(subjects, np.int32),
         names=tuple(f"{variant.name}-{split}-{i:06d}" for i in range(len(actions))),
-        mode_names=variant.mode_names,
+        mode_names=variant.mode_names, persons=variant.persons,
     )
+    return with_swapped_copies(data) if variant.swapped_copies else data
+
+
+def with_swapped_copies(data: MotionDataset) -> MotionDataset:
+    """Each sequence followed by its copy with the persons in reverse order, named ``<name>-flip``."""
+    order = np.repeat(np.arange(len(data)), 2)
+    doubled = data.subset(order)
+    flip = np.arange(2 * len(data)) % 2 == 1
+    frames = np.repeat(flip, doubled.lengths)
+
+    def swapped(a):
+        return None if a is None else np.where(frames.reshape((-1,) + (1,) * (a.ndim - 1)), a[:, ::-1], a)
+
+    return dataclasses.replace(
+        doubled, joints=swapped(doubled.joints), translation=swapped(doubled.translation),
+        rotations=swapped(doubled.rotations),
+        names=tuple(n + "-flip" if f else n for n, f in zip(doubled.names, flip)))

@@ -1,4 +1,7 @@
-"""Capture noise of monocular video pose estimates (VIBE-like), for stand-ins of video-estimated datasets.
+"""Capture noise: monocular video pose estimates (VIBE-like) and Kinect v2 skeleton tracking.
+
+:class:`KinectNoise` (NTU RGB+D stand-ins) acts on the output joints; see its docstring. The rest of this
+docstring is :class:`EstimateNoise`, for stand-ins of video-estimated datasets.
 
 ACTOR's UESTC motions are VIBE estimates from single RGB videos, with the root depth taken from the 2D
 box scale (FACTS 1.1: z = 500 h3d / h2d); this module reproduces their errors on a clean, grounded
@@ -31,9 +34,10 @@ import dataclasses
 
 import numpy as np
 
+from jaxmotion.data.formats.ntu120 import GapFill, fill_missing, gaussian_smooth
 from jaxmotion.data.synthetic import anatomy, timing
 from jaxmotion.data.synthetic.body import Subject
-from jaxmotion.geometry.skeletons import SMPL24, topological_order
+from jaxmotion.geometry.skeletons import SMPL24, Skeleton, topological_order
 
 
 def standing_extent(offsets: np.ndarray) -> float:
@@ -78,3 +82,49 @@ class EstimateNoise:
         root = translation + drift + jitter
         root[:, 2] -= depth
         return noisy, root
+
+
+#: Joints Kinect tracks worst (the ends of the limbs), by name part.
+_EXTREMITIES = ("wrist", "hand", "thumb", "ankle", "foot")
+
+
+@dataclasses.dataclass(frozen=True)
+class KinectNoise:
+    """Kinect v2 skeleton tracking as NTU RGB+D's files hold it, then ActFormer's preparation of them.
+
+    A :class:`~engine.Variant` ``joint_noise`` hook on the output joints (``[T, K, 3]``, a Kinect layout):
+
+    * **Jitter**: iid ``N(0, jitter_m)`` per joint, axis and frame; ``extremity_jitter_m`` at the wrists,
+      hands, thumbs, ankles and feet (est.: Kinect v2's skeletons are noisy under occlusion and at the limb
+      ends, MOTION_FACTS 6; the preparation's smoothing takes most of it away).
+    * **Lost tracking**: with probability ``lost_probability`` a clip has 1-2 bursts of ``lost_frames``
+      frames without a detection (the file then has no body on those frames).
+    * **ActFormer's preparation** (:mod:`jaxmotion.data.formats.ntu120`): gaps filled by ``rule`` (default
+      the code's, which leaves all but the first frame of a gap at the camera's origin) and a Gaussian
+      smoothing over time with sigma 3 frames. The camera (its origin is what an unfilled frame holds) sits
+      ``camera_m`` (x, y, z) from the clip's first root position, in front of the subject.
+    """
+
+    jitter_m: float = 0.008
+    extremity_jitter_m: float = 0.02
+    lost_probability: float = 0.15
+    lost_frames: tuple[int, int] = (2, 6)
+    rule: GapFill = "code"
+    camera_m: tuple[float, float, float] = (0.0, 0.0, 3.0)
+
+    def __call__(self, joints: np.ndarray, skeleton: Skeleton, fps: float, rng: np.random.Generator) -> np.ndarray:
+        """Noisy, prepared ``[T, K, 3]`` from the clean ``joints [T, K, 3]`` of ``skeleton``."""
+        sigma = np.array([self.extremity_jitter_m if any(p in n for p in _EXTREMITIES) else self.jitter_m
+                          for n in skeleton.joint_names])
+        noisy = joints + rng.normal(size=joints.shape) * sigma[None, :, None]
+        detected = np.ones(len(joints), bool)
+        if rng.uniform() < self.lost_probability:
+            for _ in range(int(rng.integers(1, 3))):
+                length = int(rng.integers(self.lost_frames[0], self.lost_frames[1] + 1))
+                start = int(rng.integers(1, max(len(joints) - length - 1, 2)))
+                detected[start:start + length] = False
+        if not detected.any():
+            detected[0] = True
+        camera = joints[0, 0] + np.array(self.camera_m)
+        filled = fill_missing(noisy - camera, detected, self.rule) + camera
+        return gaussian_smooth(filled, axis=0).astype(np.float32)

@@ -646,3 +646,52 @@ def circle_arm(take: Take, side: str, phase: np.ndarray, *, flex: float, abd: fl
     cycle of ``phase``; both arms on one phase circle mirror-symmetrically."""
     cycle = 2.0 * np.pi * phase
     set_arm(take, side, flex + radius * np.sin(cycle), abd + radius * np.cos(cycle), elbow=elbow)
+
+
+# --- stepping between stances, recoiling (interactions and fights) -------------------------------------------
+
+
+def stance_steps(take: Take, steps, *, lift: float = 1.0) -> None:
+    """Step from stance to stance: each step ``(start, duration, side, reach)`` lifts ``side``'s foot, swings it
+    and plants it ``reach`` metres ahead of the pelvis (negative: behind), while the weight stays on the other
+    foot, whose hip takes the opposite angle so the pelvis ends between the feet (a staggered stance, as
+    :func:`step_out` leaves it). The grounding then moves the body by what the planted feet allow: steps
+    back carry the body back. Feet start under the hips; a step with ``reach`` 0 closes the stance."""
+    leg = 0.85 * take.scale()
+    hips = {"left": 0.0, "right": 0.0}
+    for start, duration, side, reach_m in steps:
+        angle = float(np.degrees(np.arcsin(np.clip(0.5 * reach_m / leg, -0.6, 0.6))))
+        support = other(side)
+        keys = start + duration * np.array([0.0, 0.45, 1.0])
+        # channels are additive: each step adds the change from the stance before it
+        take[f"{side}_hip.flex"] += timing.keyframes(
+            take.t, keys, [0.0, 0.5 * (angle - hips[side]) + 12.0 * lift, angle - hips[side]])
+        take[f"{side}_knee.flex"] += timing.keyframes(take.t, keys, [0.0, 30.0 * lift, 0.0])
+        take[f"{support}_hip.flex"] += timing.keyframes(take.t, keys[[0, 2]], [0.0, -angle - hips[support]])
+        lifted = (take.t > keys[0] + 0.1 * duration) & (take.t < keys[2] - 0.1 * duration)
+        take.contact[lifted, SIDES.index(side)] = 0.0
+        take.contact[lifted, SIDES.index(support)] = 1.0
+        hips[side], hips[support] = angle, -angle
+
+
+def recoil(take: Take, time: float, *, strength: float = 1.0, where: str = "chest") -> None:
+    """The body yields to a hit at ``time`` (MOTION_FACTS 5: the trunk gives 0.1-0.3 s after contact, then
+    recovers): a hit to the ``head`` snaps the neck and upper trunk back, one to the ``chest`` pushes the trunk
+    back, one to the ``stomach`` folds it forward; the arms flinch toward the body."""
+    delay = take.vary(0.12, 0.3)
+    keys = time + np.array([0.0, delay, delay + 0.15, delay + 0.8])
+    jolt = strength * timing.keyframes(take.t, keys, [0.0, 0.0, 1.0, 0.0])
+    if where == "head":
+        take["neck.flex"] -= 25.0 * jolt
+        take["head.flex"] -= 15.0 * jolt
+        take["spine3.flex"] -= 8.0 * jolt
+    elif where == "stomach":
+        take["spine1.flex"] += 18.0 * jolt
+        take["spine2.flex"] += 12.0 * jolt
+        take["neck.flex"] += 10.0 * jolt
+    else:
+        take["spine2.flex"] -= 10.0 * jolt
+        take["spine3.flex"] -= 8.0 * jolt
+    for side in SIDES:
+        take[f"{side}_elbow.flex"] += 35.0 * jolt
+        take[f"{side}_shoulder.elev"] += 15.0 * jolt
