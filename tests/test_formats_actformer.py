@@ -627,7 +627,9 @@ def test_babel120_prepared_frame_labels_and_splits(tmp_path, h5py):
     write_h5(h5py, tmp_path / "val120.h5", {"0aa_l00_A013": stored["9b2f77e1_l03_A120"]})
     data = REAL_LOADERS["babel120"](tmp_path, "train")
     assert (data.name, data.skeleton, data.fps, data.num_classes) == ("babel120", SMPL24, 30.0, 120)
-    assert data.class_names[0] == "A001" and data.names == tuple(clips) and list(data.actions) == [0, 119]
+    # without a label-map file, BABEL's own category names
+    assert data.class_names[0] == "walk" and data.class_names[119] == "sudden movement"
+    assert data.names == tuple(clips) and list(data.actions) == [0, 119]
     for motion, (rotations, translation) in zip(data, clips.values()):
         assert_same_rotations(motion.rotations, rotations)
         np.testing.assert_allclose(motion.translation, translation, atol=1e-6)
@@ -805,6 +807,5 @@ def test_babel_amass_malformed_inputs_name_file_and_field(tmp_path):
     json_path.write_text("{")
     with pytest.raises(ValueError, match=r"val\.json: cannot read BABEL annotations as JSON"):
         load_babel120_amass(tmp_path, "val")
-    (tmp_path / "action_label_2_idx.json").unlink()
-    with pytest.raises(FileNotFoundError, match=r"action_label_2_idx\.json: BABEL category index"):
-        load_babel120_amass(tmp_path, "train")
+    with pytest.raises(FileNotFoundError, match=r"elsewhere\.json: BABEL category index"):
+        load_babel120_amass(tmp_path, "train", label_map=tmp_path / "elsewhere.json")

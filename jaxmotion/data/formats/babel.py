@@ -4,13 +4,14 @@
 which its repository does not ship: it is BABEL's own category index (``action_recognition/data/
 action_label_2_idx.json`` of BABEL's repository, abhinanda-punnakkal/BABEL), a JSON object from category name
 (``act_cat``) to index, 150 categories ordered by frequency. ActFormer keeps the categories of index 0..119 (id =
-index + 1 <= 120), so class i is the category of index i; the user supplies the file, as for ActFormer.
+index + 1 <= 120), so class i is the category of index i. :data:`CATEGORIES` holds those 120 names; a
+``action_label_2_idx.json`` under ``data_root`` (or ``label_map=``) is read instead when present.
 
 **Raw files** (:func:`load_babel120_amass`; ActFormer's ``--src_path``)::
 
     <data_root>/amass/rawdata/<feat_p without its first folder>    AMASS .npz: poses, trans, mocap_framerate
     <data_root>/babel_v1.0_release/{train,val}.json               BABEL annotations
-    <data_root>/action_label_2_idx.json                           the category index (or ``label_map=``)
+    <data_root>/action_label_2_idx.json                           optional: the category index (or ``label_map=``)
 
 What ActFormer does, and this loader repeats, per BABEL sequence (in the json's order):
   * pose = the SMPL-H ``poses[:, :66]`` (root + 21 body joints) + 6 zeros (SMPL's two hand joints): 24 joints;
@@ -41,7 +42,7 @@ ActFormer, axis-angle vectors are interpolated component-wise, not as rotations.
 **Prepared files** (:func:`load_babel120`; ActFormer's ``datasets/babel`` folder)::
 
     <data_root>/{train,val}120.h5    (and {train,val}60.h5: the categories of id <= 60)
-    <data_root>/action_label_2_idx.json    optional here: class names (else ``A001`` .. ``A120``)
+    <data_root>/action_label_2_idx.json    optional: class names (else :data:`CATEGORIES`)
 
 Each key (``<seg_id>_l<NN>_A<id>``) is float32 ``(6, 25, T)``: joints 0..23 the rot6d rows of the SMPL
 rotations (first two rows of each matrix), joint 24 the translation, de-meaned, zero-padded to 6. Label = the
@@ -79,6 +80,25 @@ AMASS_TO_LIBRARY = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]
 FPS = 30.0
 NUM_CLASSES = 120
 LABEL_MAP_FILE = "action_label_2_idx.json"
+#: The 120 categories ActFormer keeps, by index (BABEL's action_label_2_idx.json, most frequent first; the
+#: list as public BABEL-120 code reproduces it). A user's own label-map file takes precedence.
+CATEGORIES = ("walk", "stand", "hand movements", "turn", "interact with/use object", "arm movements", "t pose",
+    "step", "backwards movement", "raising body part", "look", "touch object", "leg movements", "forward movement",
+    "circular movement", "stretch", "jump", "touching body part", "sit", "place something",
+    "take/pick something up", "run", "bend", "throw", "foot movements", "a pose", "stand up", "lowering body part",
+    "sideways movement", "move up/down incline", "action with ball", "kick", "gesture", "head movements", "jog",
+    "grasp object", "waist movements", "lift something", "knee movement", "wave", "move something",
+    "swing body part", "catch", "dance", "lean", "greet", "poses", "touching face", "sports move",
+    "exercise/training", "clean something", "punch", "squat", "scratch", "hop", "play sport", "stumble",
+    "crossing limbs", "perform", "martial art", "balance", "kneel", "shake", "grab body part", "clap", "crouch",
+    "spin", "upper body movements", "knock", "adjust", "crawl", "twist", "move back to original position", "bow",
+    "hit", "touch ground", "shoulder movements", "telephone call", "grab person", "play instrument", "tap",
+    "spread", "skip", "rolling movement", "jump rope", "play catch", "drink", "evade", "support", "point",
+    "side to side movement", "stop", "protect", "wrist movements", "stances", "wait", "shuffle", "lunge",
+    "communicate (vocalise)", "jumping jacks", "rub", "dribble", "swim", "sneak", "to lower a body part",
+    "misc. abstract action", "mix", "limp", "sway", "slide", "cartwheel", "press something", "shrug",
+    "open something", "leap", "trip", "golf", "move misc. body part", "get injured", "sudden movement",
+)
 AMASS_DIR = Path("amass") / "rawdata"
 BABEL_DIR = "babel_v1.0_release"
 #: SMPL-H pose values ActFormer keeps (root + 21 body joints), then 6 zeros for SMPL's hands.
@@ -175,7 +195,7 @@ def read_label_map(path: str | Path) -> tuple[dict[str, int], tuple[str, ...]]:
 
 def _class_names(root: Path, classes: int) -> tuple[str, ...]:
     path = root / LABEL_MAP_FILE
-    names = read_label_map(path)[1] if path.is_file() else tuple(f"A{i + 1:03d}" for i in range(NUM_CLASSES))
+    names = read_label_map(path)[1] if path.is_file() else CATEGORIES
     return names[:classes]
 
 
@@ -293,14 +313,19 @@ def load_babel120_amass(root: str | Path, split: str = "train", *, label_map: st
     Args:
       root: the folder holding ``amass/rawdata/`` and ``babel_v1.0_release/``.
       split: ``"train"``, ``"val"`` or ``"test"`` (= val).
-      label_map: BABEL's ``action_label_2_idx.json``; default ``root / "action_label_2_idx.json"``.
+      label_map: BABEL's ``action_label_2_idx.json``; default ``root / "action_label_2_idx.json"`` if there,
+        else :data:`CATEGORIES`.
       overlap: ``"code"`` (ActFormer's in-place de-meaning) or ``"independent"``.
     """
     if overlap not in ("code", "independent"):
         raise ValueError(f"overlap: expected 'code' or 'independent', got {overlap!r}")
     root = Path(root)
     json_path = root / BABEL_DIR / f"{_babel_split(split, 'babel120-amass')}.json"
-    mapping, class_names = read_label_map(root / LABEL_MAP_FILE if label_map is None else Path(label_map))
+    map_file = root / LABEL_MAP_FILE if label_map is None else Path(label_map)
+    if label_map is None and not map_file.is_file():
+        mapping, class_names = {c: i for i, c in enumerate(CATEGORIES)}, CATEGORIES
+    else:
+        mapping, class_names = read_label_map(map_file)
     annotations = _read_json(json_path, "BABEL annotations")
     if not isinstance(annotations, dict):
         raise ValueError(f"{json_path}: expected a JSON object of sequences, got {type(annotations).__name__}")
