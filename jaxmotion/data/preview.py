@@ -8,6 +8,10 @@ side blue, right side red, midline black; the floor (y = 0) is grey. 2D views ar
 mirrored, with the subject turned to face +Z at frame 0: ``front`` (the subject's left on the viewer's
 right), ``side`` (seen from the subject's right, forward to the right) and ``oblique`` (in between); the
 GIF grid is 3D, each cell following its root.
+
+Several persons (interactions, fights) are drawn together, each in its own colours (person 0 as above,
+then cyan/orange, green/olive, purple/pink, brown/gold), turned so that person 0 faces +Z at frame 0, each
+pose or cell centred on the persons' mean root instead of one root.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.animation import FuncAnimation, PillowWriter
 
-from jaxmotion.data.motion import Motion, MotionDataset
+from jaxmotion.data.motion import Motion, MotionDataset, person_axis
 from jaxmotion.geometry.skeletons import Skeleton
 
 # Each view is the world direction drawn to the image's right (vertical is always +Y), in the frame where
@@ -30,7 +34,10 @@ from jaxmotion.geometry.skeletons import Skeleton
 # side (+Z right) from the subject's right, oblique in between. None of them is mirrored.
 _VIEWS = {"front": np.array([1.0, 0.0, 0.0]), "side": np.array([0.0, 0.0, 1.0]),
           "oblique": np.array([0.8, 0.0, 0.6])}
-_SIDE_COLOURS = {"left": "tab:blue", "right": "tab:red"}
+#: Per person: (left, right, midline) colours.
+_PALETTES = (("tab:blue", "tab:red", "black"), ("tab:cyan", "tab:orange", "dimgray"),
+             ("tab:green", "tab:olive", "darkgreen"), ("tab:purple", "tab:pink", "indigo"),
+             ("tab:brown", "gold", "saddlebrown"))
 
 
 def _side_of(joint_name: str) -> str:
@@ -42,23 +49,33 @@ def _side_of(joint_name: str) -> str:
     return ""
 
 
-def _bone_colours(skeleton: Skeleton) -> list[str]:
-    return [_SIDE_COLOURS.get(_side_of(skeleton.joint_names[child]), "black") for _, child in skeleton.bones]
+def _bone_colours(skeleton: Skeleton, person: int = 0) -> list[str]:
+    left, right, mid = _PALETTES[person % len(_PALETTES)]
+    return [{"left": left, "right": right}.get(_side_of(skeleton.joint_names[child]), mid) for _, child in skeleton.bones]
 
 
-def _draw_2d(ax, joints: np.ndarray, skeleton: Skeleton, view: str, shift: float = 0.0, lw: float = 2.0):
-    """One pose ``[J, 3]`` seen from ``view``, centred on its root and moved ``shift`` to the right."""
-    across = (joints - joints[0]) @ _VIEWS[view] + shift
-    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton), strict=True):
-        ax.plot([across[parent], across[child]], [joints[parent, 1], joints[child, 1]], color=colour, lw=lw,
-                solid_capstyle="round")
+def _people(motion: Motion) -> np.ndarray:
+    """``[P, T, J, 3]`` a record's joints, with the persons axis whatever its number of persons."""
+    return person_axis(motion.joints, motion.persons, axis=0)
 
 
-def _strip(ax, joints: np.ndarray, skeleton: Skeleton, frames: np.ndarray, view: str, spacing: float,
+def _draw_2d(ax, people: np.ndarray, skeleton: Skeleton, view: str, shift: float = 0.0, lw: float = 2.0):
+    """One pose ``[P, J, 3]`` of the persons seen from ``view``, centred on their mean root and moved ``shift``
+    to the right."""
+    centre = people[:, 0].mean(axis=0)
+    for person, joints in enumerate(people):
+        across = (joints - centre) @ _VIEWS[view] + shift
+        for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton, person), strict=True):
+            ax.plot([across[parent], across[child]], [joints[parent, 1], joints[child, 1]], color=colour, lw=lw,
+                    solid_capstyle="round")
+
+
+def _strip(ax, people: np.ndarray, skeleton: Skeleton, frames: np.ndarray, view: str, spacing: float,
            lw: float = 2.0, labels: bool = True) -> None:
-    """Poses ``joints[frames]`` side by side on ``ax``, each centred on its own root, over the floor line."""
+    """Poses ``people[:, frames]`` (``[P, T, J, 3]``) side by side on ``ax``, each centred on its mean root, over
+    the floor line."""
     for k, f in enumerate(frames):
-        _draw_2d(ax, joints[f], skeleton, view, shift=k * spacing, lw=lw)
+        _draw_2d(ax, people[:, f], skeleton, view, shift=k * spacing, lw=lw)
         if labels:
             ax.text(k * spacing, -0.12, f"{f}", ha="center", fontsize=7)
     ax.axhline(0.0, color="0.6", lw=1)
@@ -68,27 +85,28 @@ def _strip(ax, joints: np.ndarray, skeleton: Skeleton, frames: np.ndarray, view:
     ax.set_xticks([])
 
 
-def _facing_viewer(joints: np.ndarray, skeleton: Skeleton) -> np.ndarray:
-    """``[T, J, 3]`` turned about +Y so that frame 0 faces +Z (the ``front`` view sees the subject's front)."""
+def _facing_viewer(people: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """``[P, T, J, 3]`` turned about +Y so that person 0 faces +Z at frame 0 (the ``front`` view sees its front)."""
     names = [n.lower() for n in skeleton.joint_names]
     left = next(i for i, n in enumerate(skeleton.joint_names) if _side_of(n) == "left" and "hip" in names[i])
     right = next(i for i, n in enumerate(skeleton.joint_names) if _side_of(n) == "right" and "hip" in names[i])
-    across = joints[0, left] - joints[0, right]
+    across = people[0, 0, left] - people[0, 0, right]
     angle = np.arctan2(-across[2], across[0])  # rotation taking the hip axis onto +X
     c, s = np.cos(angle), np.sin(angle)
     turn = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
-    return joints @ turn.T
+    return people @ turn.T
 
 
 def filmstrip(motion: Motion, skeleton: Skeleton, path: str, *, frames: int = 8, views=("front", "side"),
               title: str = "") -> None:
     """Save a PNG: ``frames`` evenly spaced poses side by side, one row per view, each pose centred on its
-    own root; the floor line shows contact."""
+    own root (several persons: on their mean root, spaced wider); the floor line shows contact."""
     index = np.linspace(0, motion.num_frames - 1, frames).round().astype(int)
-    joints = _facing_viewer(motion.joints, skeleton)
-    fig, axes = plt.subplots(len(views), 1, figsize=(1.3 * frames, 2.6 * len(views)), squeeze=False)
+    people = _facing_viewer(_people(motion), skeleton)
+    spacing = 1.0 if motion.persons == 1 else 1.2 + 0.8 * motion.persons
+    fig, axes = plt.subplots(len(views), 1, figsize=(1.3 * spacing * frames, 2.6 * len(views)), squeeze=False)
     for ax, view in zip(axes[:, 0], views, strict=True):
-        _strip(ax, joints, skeleton, index, view, spacing=1.0)
+        _strip(ax, people, skeleton, index, view, spacing=spacing)
         ax.set_ylabel(view)
     axes[0, 0].set_title(title, fontsize=9)
     fig.tight_layout()
@@ -125,31 +143,34 @@ def _grid_axes(rows, data: MotionDataset, *, three_d: bool, cell_width: float):
     return fig, cells
 
 
-def _draw_3d(ax, joints: np.ndarray, skeleton: Skeleton) -> None:
-    """One pose ``[J, 3]`` in a 3D cell that follows the root, over a 2 m floor grid."""
+def _draw_3d(ax, people: np.ndarray, skeleton: Skeleton, half: float = 1.0) -> None:
+    """One pose ``[P, J, 3]`` of the persons in a 3D cell that follows their mean root, over a floor grid
+    ``2 half`` metres wide."""
     title = ax.get_title()
     ax.cla()
     ax.set_title(title, fontsize=8)
-    p = joints - np.array([joints[0, 0], 0.0, joints[0, 2]])
-    for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton), strict=True):
-        # Library +Y up -> matplotlib's vertical z; world z (forward) -> plot y.
-        ax.plot([p[parent, 0], p[child, 0]], [p[parent, 2], p[child, 2]], [p[parent, 1], p[child, 1]],
-                color=colour, lw=1.8)
-    for x in np.linspace(-1.0, 1.0, 5):
-        ax.plot([x, x], [-1, 1], [0, 0], color="0.85", lw=0.6)
-        ax.plot([-1, 1], [x, x], [0, 0], color="0.85", lw=0.6)
-    ax.set_xlim(-1, 1)
-    ax.set_ylim(-1, 1)
-    ax.set_zlim(0, 2)
-    ax.set_box_aspect((1, 1, 1))
+    centre = people[:, 0].mean(axis=0)
+    for person, joints in enumerate(people):
+        p = joints - np.array([centre[0], 0.0, centre[2]])
+        for (parent, child), colour in zip(skeleton.bones, _bone_colours(skeleton, person), strict=True):
+            # Library +Y up -> matplotlib's vertical z; world z (forward) -> plot y.
+            ax.plot([p[parent, 0], p[child, 0]], [p[parent, 2], p[child, 2]], [p[parent, 1], p[child, 1]],
+                    color=colour, lw=1.8)
+    for x in np.linspace(-half, half, 5):
+        ax.plot([x, x], [-half, half], [0, 0], color="0.85", lw=0.6)
+        ax.plot([-half, half], [x, x], [0, 0], color="0.85", lw=0.6)
+    ax.set_xlim(-half, half)
+    ax.set_ylim(-half, half)
+    ax.set_zlim(0, max(2.0, half))
+    ax.set_box_aspect((1, 1, 1) if half <= 2.0 else (1, 1, 2.0 / half))
     ax.view_init(elev=12, azim=60)
     ax.set_axis_off()
 
 
-def _on_floor(joints: np.ndarray) -> np.ndarray:
-    """``joints [T, J, 3]`` raised or lowered so the lowest joint of the clip touches the floor (y = 0): motions
+def _on_floor(people: np.ndarray) -> np.ndarray:
+    """``[P, T, J, 3]`` raised or lowered so the lowest joint of the clip touches the floor (y = 0): motions
     in a model's frame (root of frame 0 at the origin) are then drawn like captured ones."""
-    return joints - np.array([0.0, joints[..., 1].min(), 0.0])
+    return people - np.array([0.0, people[..., 1].min(), 0.0])
 
 
 def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still: bool = False,
@@ -160,24 +181,26 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
     stands on the floor line (its lowest joint over the clip at height 0)."""
     rows = _examples(data, classes)
     skeleton = data.skeleton
-    fig, cells = _grid_axes(rows, data, three_d=not still, cell_width=0.75 * key_frames if still else 2.4)
+    wide = 1.0 if data.persons == 1 else (0.6 + 0.7 * data.persons) / 0.9  # a still cell per scene, not per body
+    fig, cells = _grid_axes(rows, data, three_d=not still, cell_width=0.75 * wide * key_frames if still else 2.4 * wide)
     if still:
         for ax, motion in cells:
             if motion is not None:
                 index = np.linspace(0, motion.num_frames - 1, key_frames).round().astype(int)
-                _strip(ax, _facing_viewer(_on_floor(motion.joints), skeleton), skeleton, index, "oblique", spacing=0.9,
-                       lw=1.4, labels=False)
+                _strip(ax, _facing_viewer(_on_floor(_people(motion)), skeleton), skeleton, index, "oblique",
+                       spacing=0.9 if data.persons == 1 else 0.6 + 0.7 * data.persons, lw=1.4, labels=False)
                 ax.set_axis_off()
         fig.tight_layout()
         fig.savefig(path, dpi=70)
         plt.close(fig)
         return
     length = min(max((m.num_frames for _, m in cells if m is not None), default=1), max_frames)
-    grounded = [(ax, _on_floor(motion.joints)) for ax, motion in cells if motion is not None]  # once per clip
+    grounded = [(ax, _on_floor(_people(motion))) for ax, motion in cells if motion is not None]  # once per clip
+    half = 1.0 if data.persons == 1 else 0.6 + 0.5 * data.persons
 
     def update(frame):
-        for ax, joints in grounded:
-            _draw_3d(ax, joints[min(frame, len(joints) - 1)], skeleton)
+        for ax, people in grounded:
+            _draw_3d(ax, people[:, min(frame, people.shape[1] - 1)], skeleton, half)
         return []
 
     FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps))

@@ -38,12 +38,15 @@ import numpy as np
 
 from jaxmotion.cache import cache_root
 from jaxmotion.files import file_lock
+from jaxmotion.data.formats.ntu120 import NUM_SUBJECTS as NTU_NUM_SUBJECTS
+from jaxmotion.data.formats.ntu120 import XSUB_TRAIN_SUBJECTS as NTU_XSUB_TRAIN_SUBJECTS
 from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
 from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
 from jaxmotion.data.motion import MotionDataset, SourceMismatchError, concatenate
-from jaxmotion.data.synthetic import cmu, humanact12, ntu13, uestc
+from jaxmotion.data.synthetic import cmu, combat, humanact12, ntu2p, ntu13, uestc
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
-from jaxmotion.data.synthetic.noise import EstimateNoise
+from jaxmotion.data.synthetic.noise import EstimateNoise, KinectNoise
+from jaxmotion.geometry.markers import GTA22_ON_SMPL24, NTU25_ON_SMPL24
 
 __all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path", "cache_source", "generate", "load",
            "subject_offsets"]
@@ -51,6 +54,10 @@ __all__ = ["FOOT_SKATE_TOLERANCE", "GENERATOR_VERSION", "VARIANTS", "cache_path"
 GENERATOR_VERSION = 3  # 3: CMU Step/Climb go up (per-foot support height); in-place flights land where they stood
 #: Mean toe-joint horizontal speed (m/s) allowed on floor-contact frames of walking and running.
 FOOT_SKATE_TOLERANCE = 0.08
+
+#: NTU RGB+D 120's cross-subject split of its 106 performers (FACTS 1.3).
+_NTU_XSUB = {"train": tuple(sorted(NTU_XSUB_TRAIN_SUBJECTS)),
+             "test": tuple(s for s in range(1, NTU_NUM_SUBJECTS + 1) if s not in NTU_XSUB_TRAIN_SUBJECTS)}
 
 VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
     "synth-humanact12": Variant(
@@ -80,6 +87,23 @@ VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
                 s for s in range(1, UESTC_NUM_SUBJECTS + 1) if s not in UESTC_TRAIN_SUBJECTS)),
         }),
     ),
+    # NTU-2P as ActFormer prepares it (FACTS 1.3): the 26 mutual actions, 30 fps Kinect v2 skeletons (NTU-25,
+    # with Kinect-like capture, gap filling and smoothing), cross-subject split; each clip also stored with its
+    # persons swapped (ActFormer's -flip copies). 50 scenes per class and split (the real set: ~470), 2-5 s.
+    "synth-ntu2p": Variant(
+        name="synth-ntu2p", classes=ntu2p.CLASSES, fps=30.0, lengths=(60, 150), persons=2, swapped_copies=True,
+        markers=NTU25_ON_SMPL24, joint_noise=KinectNoise(),
+        splits=MappingProxyType({split: Split(num_sequences=1300, subjects=subjects)
+                                 for split, subjects in _NTU_XSUB.items()}),
+    ),
+    # GTA Combat (ActFormer): one class, 2-5 fighters on GTA-22, game-engine clean. The real sets hold about
+    # 2.3 / 1.9 / 1.5 / 1.2 thousand sequences; these keep the proportions at a fifth. One split, as
+    # ActFormer trains on the whole file (FACTS 1.3); 60 performers; 30 fps assumed (GTA's rate is unpublished).
+    **{f"synth-combat-{p}p": Variant(
+        name=f"synth-combat-{p}p", classes=combat.CLASSES, fps=30.0, lengths=(60, 150), persons=p,
+        markers=GTA22_ON_SMPL24,
+        splits=MappingProxyType({"train": Split(num_sequences=n, subjects=tuple(range(60)))}),
+    ) for p, n in ((2, 460), (3, 380), (4, 300), (5, 240))},
 })
 
 

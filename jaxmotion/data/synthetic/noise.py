@@ -107,7 +107,7 @@ class KinectNoise:
 
     jitter_m: float = 0.008
     extremity_jitter_m: float = 0.02
-    lost_probability: float = 0.15
+    lost_probability: float = 0.1
     lost_frames: tuple[int, int] = (2, 6)
     rule: GapFill = "code"
     camera_m: tuple[float, float, float] = (0.0, 0.0, 3.0)
