@@ -43,7 +43,7 @@ from jaxmotion.data.formats.ntu120 import XSUB_TRAIN_SUBJECTS as NTU_XSUB_TRAIN_
 from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
 from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
 from jaxmotion.data.motion import MotionDataset, SourceMismatchError, concatenate
-from jaxmotion.data.synthetic import cmu, combat, humanact12, ntu2p, ntu13, uestc
+from jaxmotion.data.synthetic import babel120, cmu, combat, humanact12, ntu1p_daily, ntu1p_extended, ntu2p, ntu13, uestc
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
 from jaxmotion.data.synthetic.noise import EstimateNoise, KinectNoise
 from jaxmotion.geometry.markers import GTA22_ON_SMPL24, NTU25_ON_SMPL24
@@ -86,6 +86,31 @@ VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
             "test": Split(num_sequences=13350, subjects=tuple(
                 s for s in range(1, UESTC_NUM_SUBJECTS + 1) if s not in UESTC_TRAIN_SUBJECTS)),
         }),
+    ),
+    # NTU-1P as ActFormer prepares it (FACTS 1.3): NTU-120's 94 one-person classes (A001-A049, A061-A105) under
+    # their names, 30 fps Kinect v2 skeletons (NTU-25 markers with Kinect-like capture, ActFormer's gap filling
+    # and smoothing), cross-subject split, 2-5 s clips; 60 clips per class and split (the real set: ~600).
+    "synth-ntu1p": Variant(
+        name="synth-ntu1p", classes=ntu1p_daily.CLASSES + ntu1p_extended.CLASSES, fps=30.0, lengths=(60, 150),
+        markers=NTU25_ON_SMPL24, joint_noise=KinectNoise(),
+        splits=MappingProxyType({split: Split(num_sequences=94 * 60, subjects=subjects)
+                                 for split, subjects in _NTU_XSUB.items()}),
+    ),
+    # NTURecon-1P (ActFormer): the same takes as synth-ntu1p (its random streams) stored as SMPL rotations with
+    # the monocular-estimate noise of synth-uestc, as SMPL is fitted to NTU's videos there.
+    "synth-ntu1p-smpl": Variant(
+        name="synth-ntu1p-smpl", classes=ntu1p_daily.CLASSES + ntu1p_extended.CLASSES, fps=30.0, lengths=(60, 150),
+        noise=EstimateNoise(), stream="synth-ntu1p",
+        splits=MappingProxyType({split: Split(num_sequences=94 * 60, subjects=subjects)
+                                 for split, subjects in _NTU_XSUB.items()}),
+    ),
+    # BABEL-120 as ActFormer uses it: AMASS segments of BABEL's 120 most frequent categories, SMPL at 30 fps, 1-8 s,
+    # long-tailed class shares (babel120.ZIPF_EXPONENT: "walk" 120 times the rarest); train/val as BABEL's.
+    # AMASS performers are not split by subject in BABEL; disjoint subject sets keep val held out here.
+    "synth-babel120": Variant(
+        name="synth-babel120", classes=babel120.CLASSES, fps=30.0, lengths=(30, 240),
+        splits=MappingProxyType({"train": Split(num_sequences=12000, subjects=tuple(range(60))),
+                                 "val": Split(num_sequences=3000, subjects=tuple(range(60, 80)))}),
     ),
     # NTU-2P as ActFormer prepares it (FACTS 1.3): the 26 mutual actions, 30 fps Kinect v2 skeletons (NTU-25,
     # with Kinect-like capture, gap filling and smoothing), cross-subject split; each clip also stored with its

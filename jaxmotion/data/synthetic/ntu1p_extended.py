@@ -975,8 +975,8 @@ def open_a_box(take: Take) -> None:
 
 
 def move_heavy_objects(take: Take) -> None:
-    """Effortful whole-body work: ``lift and carry``: squat to a box on the floor (knees ~100 degrees, trunk
-    ~40), grip it with both hands at its sides, stand up with it held at the waist (leaning back a little
+    """Effortful whole-body work: ``lift and carry``: squat to a box on the floor (knees ~115 degrees, trunk
+    ~48), grip it with both hands at its sides, stand up with it held at the waist (leaning back a little
     against the load) and carry it a few slow, short steps; ``lift and put down``: squat, lift, hold, squat
     again and set it down a little further round, stand up; ``push``: lean into the load with the arms
     forward at chest height and walk it forward in short, slow steps. The root lowers in the squats."""
@@ -1004,11 +1004,11 @@ def move_heavy_objects(take: Take) -> None:
         fold = _curve(take, k, 0, 0, 1, 1, 0, 0, 1, 1, 0)
         walking = np.zeros(take.num_frames)
         held = _curve(take, k, 0, 0, 0, 1, 1, 1, 1, 0, 0)
-    skills.crouch(take, take.vary(100.0, 0.1) * fold, take.vary(40.0, 0.12) * fold, heel=5.0 * fold)
+    skills.crouch(take, take.vary(115.0, 0.1) * fold, take.vary(48.0, 0.12) * fold, heel=5.0 * fold)
     take["spine1.flex"] -= 6.0 * held * (1.0 - fold)  # leaning back against the load
     if carry:
         _steps(take, walking, cadence=take.vary(1.5, 0.1), size=take.vary(0.6, 0.1))
-    box_low = _below(take, 0.52, 0.18, -0.02)  # the box's sides near the floor in front of the feet
+    box_low = _below(take, 0.53, 0.16, -0.02)  # the box's sides near the floor in front of the feet
     box_high = _at(take, 0.19, -0.32, 0.3)
     low = fold[:, None]
     target = low * box_low + (1.0 - low) * box_high
