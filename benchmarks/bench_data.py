@@ -3,8 +3,10 @@
     python benchmarks/bench_data.py [--variants synth-humanact12,synth-uestc] [--batches 200]
 
 Generation is timed from scratch (no cache), once per split. The pipeline is timed after a warm-up
-call (which compiles), with ``block_until_ready``, for ACTOR's batch (20 x 60 frames, canonical frame)
-and ODMO's class-balanced batch (512 x 60 frames). Prints markdown tables.
+call (which compiles), with ``block_until_ready``, for ACTOR's batch (20 x 60 frames, canonical frame),
+ODMO's class-balanced batch (512 x 60 frames) and ActFormer's (64 x 60 frames, snake padding; on datasets
+of several persons 64 x P x 60 with the persons' order shuffled, on BABEL square-root class sampling).
+Prints markdown tables.
 """
 
 from __future__ import annotations
@@ -27,7 +29,19 @@ PIPELINES = {
     "ACTOR 20x60 canonical": BatchSpec(batch_size=20, window=60),
     "ACTOR 20x100 variable 60-100": BatchSpec(batch_size=20, window=100, min_length=60),
     "ODMO 512x60 balanced": BatchSpec(batch_size=512, window=60, sampling="balanced", canonical=False),
+    "ActFormer 64x60 snake": BatchSpec(batch_size=64, window=60, padding="snake"),
 }
+ACTFORMER_PERSONS = BatchSpec(batch_size=64, window=60, padding="snake", permute_persons=True)
+ACTFORMER_BABEL = BatchSpec(batch_size=64, window=60, padding="snake", sampling="sqrt")
+
+
+def pipelines(data) -> dict[str, BatchSpec]:
+    """The batches timed on ``data``: ActFormer's multi-person batch alone on datasets of several persons."""
+    if data.persons > 1:
+        return {f"ActFormer 64x{data.persons}x60 snake, persons permuted": ACTFORMER_PERSONS}
+    if "babel" in data.name:
+        return {**PIPELINES, "ActFormer 64x60 snake, sqrt classes": ACTFORMER_BABEL}
+    return PIPELINES
 
 
 def main() -> None:
@@ -47,7 +61,7 @@ def main() -> None:
             mb = sum(a.nbytes for a in (data.joints, data.translation, data.rotations) if a is not None) / 2**20
             generation.append(f"| {name} | {split} | {len(data):,} | {data.joints.shape[0]:,} | {mb:.0f} | "
                               f"{seconds:.1f} |")
-        for label, spec in PIPELINES.items():
+        for label, spec in pipelines(data).items():
             if spec.batch_size > len(data) and spec.sampling == "epoch":
                 continue
             batch_fn = make_batch_fn(data, jax.random.key(0), spec)

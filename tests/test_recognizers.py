@@ -201,3 +201,56 @@ def test_recognition_experiment_smoke_writes_its_table(tmp_path, monkeypatch):
     assert set(row) == {"held-out accuracy (%)", "train accuracy (%)", "held-out clips"}
     assert 0 <= row["held-out accuracy (%)"] <= 100
     assert (tmp_path / "out" / "recognition" / "smoke" / "seed-0" / "table.md").exists()
+
+
+@pytest.fixture(scope="module")
+def two_person_windows():
+    data = load_dataset("synth-ntu2p", count=26)
+    return epoch_windows(data, jax.random.key(0), BatchSpec(batch_size=1, window=30, canonical=False), 8)
+
+
+def _untrained_ntu(config, persons):
+    from jaxmotion.geometry.skeletons import NTU25
+
+    variables = init_recognizer(jax.random.key(1), config, NTU25, 26, frames=30, persons=persons)
+    return Recognizer(config, NTU25, tuple(f"class {i}" for i in range(26)), variables)
+
+
+def test_two_person_motions_are_read_together_and_placed_by_the_first_person(two_person_windows):
+    """The GRU reads both persons in their order, the ST-GCN averages them (order-free); both see the pair in
+    the first person's canonical frame, so moving the pair together changes nothing."""
+    w = two_person_windows
+    assert w["joints"].shape[:3] == (8, 2, 30)
+    swapped = {k: w[k][:, ::-1] for k in ("joints", "translation")}
+    c, s = np.cos(0.7), np.sin(0.7)
+    rot = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]], np.float32)
+    moved = {k: w[k] @ rot.T + np.array([1.0, 0.0, 2.0], np.float32) for k in ("joints", "translation")}
+    joints_stgcn = RecognizerConfig(architecture="stgcn", inputs="joints", channels=(8, 16), strides=(1, 2))
+    for config in (SMALL_GRU, joints_stgcn):
+        recognizer = _untrained_ntu(config, persons=2)
+        logits, _ = recognizer(w)
+        assert logits.shape == (8, 26)
+        np.testing.assert_allclose(np.asarray(recognizer(moved)[0]), np.asarray(logits), atol=2e-4)
+        first_as_frame = {k: np.ascontiguousarray(v) for k, v in swapped.items()}
+        if config.architecture == "stgcn":  # averaged persons: only the canonical frame's owner changes
+            plain = dataclasses.replace(config, canonical=False)
+            order_free = _untrained_ntu(plain, persons=2)
+            np.testing.assert_allclose(np.asarray(order_free(first_as_frame)[0]), np.asarray(order_free(w)[0]),
+                                       atol=2e-4)
+        else:  # the GRU's input order is the persons' order
+            assert not np.allclose(np.asarray(recognizer(first_as_frame)[0]), np.asarray(logits), atol=1e-3)
+
+
+def test_one_person_on_a_persons_axis_reads_as_without_it(windows):
+    recognizer = _untrained(SMALL_GRU)
+    with_axis = {k: windows[k][:, None] for k in ("joints", "translation", "rotations")}
+    np.testing.assert_allclose(np.asarray(recognizer(with_axis)[0]), np.asarray(recognizer(windows)[0]), atol=1e-6)
+
+
+def test_a_two_person_evaluator_is_cached_with_its_persons(tmp_path, two_person_windows):
+    spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"),
+                         {"dataset": "synth-ntu2p", "window": 30, "loop.steps": 5, "count": 52, "test_count": 20})
+    first, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
+    assert record["persons"] == 2 and len(record["class_names"]) == 26
+    again, _ = trained_recognizer(spec, cache_dir=tmp_path)
+    np.testing.assert_array_equal(np.asarray(again(two_person_windows)[0]), np.asarray(first(two_person_windows)[0]))

@@ -171,3 +171,25 @@ def test_crawl_keeps_the_pelvis_low_and_the_hands_near_the_floor():
         assert m.joints[:, 0, 1].max() < 0.65
         assert m.joints[:, list(_HANDS), 1].min(axis=1).mean() < 0.2
         assert m.joints[..., 1].min() > -0.01
+
+
+def test_square_root_sampling_flattens_the_long_tail_of_the_registered_variant():
+    """ActFormer resamples BABEL-120 by the square root of the class counts: drawn from the registered
+    variant's head (which keeps its shares), a class's share of the batches follows sqrt(count), so the head
+    class is drawn ~sqrt(ratio) times as often as the rarest instead of ratio times."""
+    import jax
+
+    from jaxmotion.data import synthetic
+    from jaxmotion.data.pipeline import BatchSpec, make_batch_fn
+
+    data = synthetic.generate("synth-babel120", "train", count=600)
+    counts = np.bincount(data.actions, minlength=120)
+    assert counts.min() >= 1 and counts.max() / counts.min() >= 50
+    batch_fn = make_batch_fn(data, jax.random.key(0), BatchSpec(batch_size=512, window=30, sampling="sqrt"))
+    drawn = np.bincount(np.concatenate([np.asarray(batch_fn(step)["actions"]) for step in range(40)]), minlength=120)
+    expected = np.sqrt(counts) / np.sqrt(counts).sum()
+    share = drawn / drawn.sum()
+    head, tail = counts >= 20, counts <= 2  # enough draws in each group to compare
+    np.testing.assert_allclose(share[head].sum(), expected[head].sum(), rtol=0.05)
+    np.testing.assert_allclose(share[tail].sum(), expected[tail].sum(), rtol=0.1)
+    assert drawn[0] / drawn[counts == counts.min()].mean() < 2 * np.sqrt(counts[0] / counts.min())

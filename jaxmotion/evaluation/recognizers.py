@@ -12,8 +12,9 @@ The standard evaluators of the papers on the embedded data (:data:`EVALUATORS`, 
 Action2Motion's GRU on joints for synth-humanact12, synth-ntu13 and synth-cmu, ACTOR's ST-GCN on rot6d for
 synth-uestc, and ODMO's 3 × 256 GRU on joints for synth-uestc, each in the three profiles.
 
-Held-out data: the dataset's ``test`` split where it has one (synth-uestc, UESTC); otherwise, for the
-embedded datasets, the same generator run with ``test_data_seed`` (new subjects and new sequences).
+Held-out data: the dataset's ``test`` (or ``val``) split where it has one (synth-uestc, UESTC, the
+NTU-120 and BABEL stand-ins); otherwise, for the embedded datasets, the same generator run with
+``test_data_seed`` (new subjects and new sequences).
 """
 
 from __future__ import annotations
@@ -96,7 +97,8 @@ class RecognizerTraining:
 
 
 #: The papers' evaluators on the embedded data, by name.
-EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru")
+EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru",
+              "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru")
 
 # cpu: sized to reach >= 95% held-out accuracy on a 2-core CPU in minutes. ST-GCN keeps the reference's
 # block design and graph, with 3 blocks of 16-64 channels instead of 10 of 64-256 (about 1/60 of the work).
@@ -149,10 +151,12 @@ def training_data(spec: RecognizerTraining, data_root: str | None = None) -> Mot
 
 
 def held_out_data(spec: RecognizerTraining, data_root: str | None = None) -> MotionDataset:
-    """The dataset's test split, or for embedded datasets without one, a fresh draw with ``test_data_seed``."""
+    """The dataset's test (or val) split, or for embedded datasets without one, a fresh draw with
+    ``test_data_seed``."""
     if spec.dataset in synthetic.VARIANTS:
-        if "test" in synthetic.VARIANTS[spec.dataset].splits:
-            return load_dataset(spec.dataset, "test", seed=spec.data_seed, count=spec.count)
+        held_out = [s for s in ("test", "val") if s in synthetic.VARIANTS[spec.dataset].splits]
+        if held_out:
+            return load_dataset(spec.dataset, held_out[0], seed=spec.data_seed, count=spec.count)
         return load_dataset(spec.dataset, "train", seed=spec.test_data_seed, count=spec.count)
     return load_dataset(spec.dataset, "test", data_root=data_root, count=spec.count)
 
@@ -197,14 +201,16 @@ def train_recognizer(spec: RecognizerTraining, workdir: str | Path | None, *, da
         state = state.apply_gradients(grads=grads).replace(batch_stats=batch_stats)
         return state, {"loss": loss, "accuracy": jnp.mean(jnp.argmax(logits, -1) == batch["actions"])}
 
-    state = fit(data, jax.random.key(spec.seed), init_state=lambda k: _initial_state(spec, k, skeleton, num_classes),
+    state = fit(data, jax.random.key(spec.seed),
+                init_state=lambda k: _initial_state(spec, k, skeleton, num_classes, data.persons),
                 step_fn=step_fn, batch=_batch_spec(spec, net.canonical), loop=spec.loop, workdir=workdir,
                 progress=progress, **loop_options)
     return _recognizer(spec, data.skeleton, data.class_names, state)
 
 
-def _initial_state(spec: RecognizerTraining, key: jax.Array, skeleton: Skeleton, num_classes: int) -> RecognizerState:
-    variables = init_recognizer(key, spec.recognizer, skeleton, num_classes, spec.window)
+def _initial_state(spec: RecognizerTraining, key: jax.Array, skeleton: Skeleton, num_classes: int,
+                   persons: int = 1) -> RecognizerState:
+    variables = init_recognizer(key, spec.recognizer, skeleton, num_classes, spec.window, persons)
     tx = (optax.adamw(spec.learning_rate, weight_decay=spec.weight_decay) if spec.weight_decay
           else optax.adam(spec.learning_rate))
     return RecognizerState.create(apply_fn=None, params=variables["params"], tx=tx,
@@ -288,7 +294,8 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
         record = read_json(folder / "recognizer.json")
         if record is not None:
             skeleton = SKELETONS[record["skeleton"]]
-            like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]))
+            like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]),
+                                  record.get("persons", 1))  # records before several persons had one
             with Checkpointer(folder / "checkpoints") as ckpt:
                 state = ckpt.restore(like)
             return _recognizer(spec, skeleton, record["class_names"], state), record
@@ -298,7 +305,8 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
         held_out = evaluate_recognizer(recognizer, held_out_set, jax.random.key(spec.seed + 1),
                                        window=spec.window, count=spec.test_count)
         record = {"spec": cfglib.to_dict(spec), "class_names": list(recognizer.class_names),
-                  "skeleton": recognizer.skeleton.name, "held_out": held_out, "machine": training_machine()}
+                  "skeleton": recognizer.skeleton.name, "persons": held_out_set.persons, "held_out": held_out,
+                  "machine": training_machine()}
         print(f"[evaluator] {spec.name}: held-out accuracy {100 * held_out['accuracy']:.1f}% on "
               f"{held_out['clips']} clips", file=sys.stderr)
         if is_primary():

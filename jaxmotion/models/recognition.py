@@ -162,16 +162,18 @@ class RecognizerConfig:
 
 
 def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Mapping[str, jax.Array]) -> jax.Array:
-    """What the network reads, ``[B, T, J, C]`` (C = 3 joints, 6 rot6d), from a batch of motions.
+    """What the network reads, ``[B, T, J, C]`` (C = 3 joints, 6 rot6d), from a batch of motions; ``[B, P, T, J,
+    C]`` for motions of P persons (the first person's frame 0 sets the canonical frame of all).
 
     ``motions``: ``joints [B, T, J, 3]`` (library frame, metres), optional ``translation [B, T, 3]`` (the
-    root; default joint 0), and ``rotations [B, T, J, 3]`` axis-angle (joint 0 global), required for rot6d.
+    root; default joint 0), and ``rotations [B, T, J, 3]`` axis-angle (joint 0 global), required for rot6d;
+    or all of them ``[B, P, T, ...]``.
     """
     joints = jnp.asarray(motions["joints"], jnp.float32)
     num_joints = skeleton.num_joints
-    if joints.ndim != 4 or joints.shape[2:] != (num_joints, 3):
-        raise ValueError(f"motions['joints']: expected [B, T, {num_joints}, 3] ({skeleton.name}), "
-                         f"got {tuple(joints.shape)}")
+    if joints.ndim not in (4, 5) or joints.shape[-2:] != (num_joints, 3):
+        raise ValueError(f"motions['joints']: expected [B, T, {num_joints}, 3] or [B, P, T, {num_joints}, 3] "
+                         f"({skeleton.name}), got {tuple(joints.shape)}")
     rotations = motions.get("rotations")
     if config.inputs == "rot6d":
         if rotations is None:
@@ -182,7 +184,7 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
             raise ValueError(f"motions['rotations']: expected {tuple(joints.shape)} like the joints, "
                              f"got {tuple(rotations.shape)}")
     if config.canonical:
-        translation = jnp.asarray(motions.get("translation", joints[:, :, 0]), jnp.float32)
+        translation = jnp.asarray(motions.get("translation", joints[..., 0, :]), jnp.float32)
         hips = skeleton.index("left_hip"), skeleton.index("right_hip")
         joints, _, rotations = canonicalize_motion(joints, translation, rotations if config.inputs == "rot6d"
                                                    else None, *hips)
@@ -206,12 +208,14 @@ def _stgcn_graph(skeleton: Skeleton) -> np.ndarray:
 
 
 def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton, num_classes: int,
-                    frames: int = 60) -> dict[str, Any]:
+                    frames: int = 60, persons: int = 1) -> dict[str, Any]:
     """Fresh variables ``{"params": ..., ["batch_stats": ...]}``; no size depends on ``frames`` (kept so
-    every architecture's init has one signature)."""
+    every architecture's init has one signature). ``persons``: P of the motions it will read; the GRU reads
+    every person's joints in each frame (its input grows with P), the ST-GCN shares its weights across
+    persons and averages their features (ST-GCN's own rule), so its size does not depend on P."""
     channels = 3 if config.inputs == "joints" else 6
     if config.architecture == "gru":
-        return {"params": init_gru_recognizer(key, skeleton.num_joints * channels, num_classes, config.hidden,
+        return {"params": init_gru_recognizer(key, persons * skeleton.num_joints * channels, num_classes, config.hidden,
                                               config.layers, config.feature_dim)}
     params, stats = init_stgcn(key, _stgcn_graph(skeleton), channels, num_classes, channels=config.channels,
                                strides=config.strides, temporal_kernel=config.temporal_kernel)
@@ -221,13 +225,16 @@ def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton
 def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: int, variables: Mapping[str, Any],
                      x: jax.Array, lengths: jax.Array | None = None, *, train: bool = False,
                      key: jax.Array | None = None) -> tuple[tuple[jax.Array, jax.Array], dict[str, Any]]:
-    """``x [B, T, J, C]`` (from :func:`recognizer_inputs`) -> ``((logits [B, K], features [B, D]), updates)``.
+    """``x [B, T, J, C]`` or ``[B, P, T, J, C]`` (from :func:`recognizer_inputs`) -> ``((logits [B, K],
+    features [B, D]), updates)``; the GRU reads the persons of a frame side by side, in their order.
 
     ``lengths [B]``: the GRU reads each sequence at its last real frame (the ST-GCN pools over all frames,
     as the reference, whose padding repeats the last frame). ``train``: ST-GCN batch statistics from the
     batch (returned in ``updates``) and dropout from ``key``.
     """
     if config.architecture == "gru":
+        if x.ndim == 5:  # [B, P, T, J, C] -> [B, T, P, J, C]: one frame of every person per step
+            x = jnp.moveaxis(x, 1, 2)
         outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
         return outputs, {}
     outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(skeleton),

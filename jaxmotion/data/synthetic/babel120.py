@@ -4,7 +4,7 @@ The classes follow :data:`jaxmotion.data.formats.babel.CATEGORIES` (BABEL's own 
 are named exactly as it names them. Each class is a ``perform(take)`` with 2-3 named style modes; where a
 category matches a class of another stand-in its perform function is imported and run in one of its modes
 (:func:`_as`), not copied: walk, run, jump, sit, stand up, pick up, throw, kick, squat, lunge, jumping jacks,
-jump rope, dance, the stairs and slopes of "move up/down incline", wave, clap, point, hop, drink, the phone call,
+jump rope, dance, the stairs of "move up/down incline", wave, clap, point, hop, drink, the phone call,
 stretches, punches and the ball games. BABEL's abstract categories ("t pose", "hand movements", "raising body
 part", "forward movement", ...) get one concrete reading each, stated in the perform function's docstring.
 
@@ -350,6 +350,17 @@ def backwards_movement(take: Take) -> None:
     glance = skills.bumps(take, skills.beats(take, 2.5, jitter=0.3), take.vary(1.2, 0.15))
     _look(take, twist=take.choice((1.0, -1.0)) * 45.0 * glance)
     take["spine1.flex"] += 3.0
+
+
+def up_low_steps(take: Take) -> None:
+    """Up a stepped ramp or low stairs (10-13 cm rises, 28-32 cm treads, est.), foot over foot at ~1.4 moves/s,
+    the trunk upright: the engine's ground is one height per foot support, so a ramp is walked as its low
+    steps. Unlike up stairs (CMU's high steps: 15-22 cm) the knees lift less and the pace is quicker."""
+    skills.stand(take)
+    rate = take.vary(1.4, 0.1) * take.tempo
+    phase = timing.warped_phase(take.t, 0.5 * rate, take.rng, wobble=0.04, start=-0.5 * rate * take.uniform(0.1, 0.4))
+    skills.stairs(take, phase, rise=take.uniform(0.1, 0.13), tread=take.uniform(0.28, 0.32))
+    take["spine1.flex"] += take.vary(3.0, 0.3)
 
 
 def sideways_movement(take: Take) -> None:
@@ -2529,7 +2540,7 @@ _TABLES = (
     _theirs(ntu13.standing_up, "with hand push", "without hand push", busy=2.6),  # stand up
     _own(lowering_body_part, "arm", "leg"),  # lowering body part
     _own(sideways_movement, "to the left", "to the right"),  # sideways movement
-    {"up stairs": _as(cmu.step, "high steps"), "up a slope": _as(cmu.climb, "scramble")},  # move up/down incline
+    {"up stairs": _as(cmu.step, "high steps"), "up low steps": up_low_steps},  # move up/down incline
     _own(action_with_ball, "chest pass", "overhead pass"),  # action with ball
     _theirs(ntu13.kicking_something, "right", "left", busy=1.7),  # kick
     _own(gesture, "beckon", "thumbs up", "talking"),  # gesture
