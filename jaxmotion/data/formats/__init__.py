@@ -1,4 +1,4 @@
-"""Loaders for the real files of the datasets ACTOR, Action2Motion and ODMO use.
+"""Loaders for the real files of the datasets ACTOR, Action2Motion, ODMO and ActFormer use.
 
 Each loader reads one dataset in the layout its authors' code reads (the module docstrings give the exact
 files and their source) and returns a :class:`~jaxmotion.data.motion.MotionDataset` in the library frame

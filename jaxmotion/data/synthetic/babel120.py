@@ -20,7 +20,7 @@ up by :func:`_hurried`), repeated ones cycle, locomotion keeps going.
 what tempo, how the root travels); near groups are told apart deliberately, as the comment at each group says.
 Wrist targets are points in the thorax (spine3) frame, side-normalised (x away from the midline, y up, z
 forward), metres at template size times ``take.scale()``; targets on the floor are found on the body posed so
-far (:func:`_fk`). Figures: MOTION_FACTS sections 2-4 (est. where the tables have none).
+far (:func:`skills.posed`). Figures: MOTION_FACTS sections 2-4 (est. where the tables have none).
 """
 
 from __future__ import annotations
@@ -116,14 +116,6 @@ def _at(take: Take, x: float, y: float, z: float, jitter: float = 0.01) -> np.nd
     return take.scale() * (np.array([x, y, z]) + take.rng.normal(0.0, jitter, 3))
 
 
-def _look(take: Take, flex=0.0, twist=0.0, bend=0.0) -> None:
-    """Head and neck together (60/40): ``flex`` + looks down, ``twist`` + to the left, ``bend`` + to the left."""
-    for joint, share in (("neck", 0.6), ("head", 0.4)):
-        take[f"{joint}.flex"] += share * np.asarray(flex, float)
-        take[f"{joint}.twist"] += share * np.asarray(twist, float)
-        take[f"{joint}.bend"] += share * np.asarray(bend, float)
-
-
 def _lean(take: Take, degrees) -> None:
     """Lean the trunk forward ``degrees [T]`` from the hips and the spine, the legs staying vertical."""
     d = np.asarray(degrees, float)
@@ -147,23 +139,8 @@ def _oscillation(take: Take, rate: float, *, wobble: float = 0.06) -> np.ndarray
     return np.sin(2 * np.pi * timing.warped_phase(take.t, rate * take.tempo, take.rng, wobble=wobble))
 
 
-def _fk(take: Take) -> tuple[np.ndarray, np.ndarray]:
-    """The pose built so far (within the joint limits), root at the origin: ``(global rotations [T, J, 3, 3],
-    positions [T, J, 3])``, for targets on the floor or on the body itself."""
-    local = anatomy.angles_to_rotmats(anatomy.clip_to_limits(take.angles))
-    offsets = take.subject.offsets.astype(float)
-    rot = np.zeros_like(local)
-    pos = np.zeros(local.shape[:-1])
-    rot[:, 0] = local[:, 0]
-    for j in range(1, len(SMPL24.parents)):  # SMPL-24 parents precede their children
-        p = SMPL24.parents[j]
-        rot[:, j] = rot[:, p] @ local[:, j]
-        pos[:, j] = pos[:, p] + rot[:, p] @ offsets[j]
-    return rot, pos
-
-
 def _floor(take: Take, rot: np.ndarray, pos: np.ndarray) -> np.ndarray:
-    """``[T]`` height of the floor in the root-at-origin frame of :func:`_fk`: the grounding puts the lowest sole
+    """``[T]`` height of the floor in the root-at-origin frame of :func:`skills.posed`: the grounding puts the lowest sole
     point (heel or ball, :mod:`grounding`) of either foot on it."""
     lows = []
     for side in SIDES:
@@ -188,7 +165,7 @@ def _hands_to_floor(take: Take, weight, *, forward: float = 0.25, out: float = 0
     """Both hands (``sides``) down to the floor ``forward`` m ahead of and ``out`` m outside the shoulders
     (horizontally, template m), ``lift [T]`` m above it, blended in from the relaxed arm by ``weight [T]`` (call
     after the legs and trunk are posed)."""
-    rot, pos = _fk(take)
+    rot, pos = skills.posed(take)
     floor = _floor(take, rot, pos)
     heading = np.radians(take["pelvis.heading"])
     ahead = np.stack([np.sin(heading), np.zeros_like(heading), np.cos(heading)], -1)
@@ -255,6 +232,15 @@ def _step_series(take: Take, start: float, count: int, reach: float, *, step: fl
     return t
 
 
+def _paced_steps(take: Take, step: float, pause: float, *, length: float) -> None:
+    """Slow discrete steps of ``step`` s with ``pause`` s between, as many as fill the clip (squeezed into 95% of
+    it), each ``length`` m (varied 12%), the first foot drawn at random; the feet do not close."""
+    count = max(1, int(take.duration // (step + pause)))
+    squeeze = min(1.0, 0.95 * take.duration / (count * (step + pause)))
+    _step_series(take, take.uniform(0.0, 0.1), count, take.vary(length, 0.12), step=step * squeeze,
+                 pause=pause * squeeze, first=take.choice(SIDES), close=False)
+
+
 def _turn_steps(take: Take, start: float, angle: float, step: float) -> float:
     """Turn on the spot by ``angle`` degrees (+ = to the left) in small steps from ``start``: each step lifts one
     foot (the one on the turning side first) while the body pivots on the other; returns the end time."""
@@ -274,7 +260,7 @@ def _turn_steps(take: Take, start: float, angle: float, step: float) -> float:
         times += [t0 + 0.12 * step, t0 + 0.88 * step]
         values += [values[-1], angle * (i + 1) / n]
     take["pelvis.heading"] += timing.keyframes(take.t, times, values)
-    _look(take, twist=0.25 * angle * timing.keyframes(take.t, [start - 0.2, start + 0.3, start + n * step,
+    skills.turn_head(take, twist=0.25 * angle * timing.keyframes(take.t, [start - 0.2, start + 0.3, start + n * step,
                                                                 start + n * step + 0.4], [0, 1, 1, 0]))
     return start + n * step
 
@@ -323,7 +309,7 @@ def forward_movement(take: Take) -> None:
     end = _step_series(take, start, count, reach, step=step, pause=pause, first=take.choice(SIDES))
     going = _curve(take, [start - 0.2, start + 0.2, end - 0.2, end + 0.3], 0, 1, 1, 0)
     if careful:
-        _look(take, flex=25.0 * going)
+        skills.turn_head(take, flex=25.0 * going)
         _lean(take, 6.0 * going)
     for side in SIDES:
         take[f"{side}_elbow.flex"] += 8.0 * going
@@ -348,7 +334,7 @@ def backwards_movement(take: Take) -> None:
     for side, offset in (("left", 0.0), ("right", 0.5)):  # the toes lift as the foot reaches back
         take[f"{side}_ankle.dorsi"] += 10.0 * np.exp(3.0 * np.cos(2 * np.pi * (phase - offset - 0.8)) - 3.0)
     glance = skills.bumps(take, skills.beats(take, 2.5, jitter=0.3), take.vary(1.2, 0.15))
-    _look(take, twist=take.choice((1.0, -1.0)) * 45.0 * glance)
+    skills.turn_head(take, twist=take.choice((1.0, -1.0)) * 45.0 * glance)
     take["spine1.flex"] += 3.0
 
 
@@ -368,7 +354,7 @@ def sideways_movement(take: Take) -> None:
     skills.stand(take, heading=take.rng.normal(0.0, 15.0))
     phase = timing.warped_phase(take.t, take.vary(1.1, 0.12) * take.tempo, take.rng)
     skills.side_steps(take, phase, width=take.vary(16.0, 0.15), travel=1 if take.mode == "to the left" else -1)
-    _look(take, twist=(20.0 if take.mode == "to the left" else -20.0) * take.uniform(0.0, 1.0))
+    skills.turn_head(take, twist=(20.0 if take.mode == "to the left" else -20.0) * take.uniform(0.0, 1.0))
 
 
 def stop(take: Take) -> None:
@@ -413,20 +399,16 @@ def sneak(take: Take) -> None:
         skills.gait(take, skills.WALK, cadence=take.vary(1.3, 0.08), size=take.vary(0.75, 0.08))
         _swing_clearance(take, knee=10.0, dorsi=8.0)
         skills.crouch(take, take.vary(40.0, 0.15), take.vary(30.0, 0.15))
-        _look(take, flex=-20.0)
+        skills.turn_head(take, flex=-20.0)
         for side in SIDES:
             skills.reach(take, side, _at(take, 0.12, -0.12, 0.3), elbow_hint=(0.6, -1.0, -0.2))
         return
-    step_, pause = take.vary(0.6, 0.1) / take.tempo, take.uniform(0.1, 0.3)
-    count = max(1, int(take.duration // (step_ + pause)))
-    squeeze = min(1.0, 0.95 * take.duration / (count * (step_ + pause)))
-    _step_series(take, take.uniform(0.0, 0.1), count, take.vary(0.2, 0.12), step=step_ * squeeze,
-                 pause=pause * squeeze, first=take.choice(SIDES), close=False)
+    _paced_steps(take, take.vary(0.6, 0.1) / take.tempo, take.uniform(0.1, 0.3), length=0.2)
     for side in SIDES:
         take[f"{side}_ankle.dorsi"] -= take.vary(18.0, 0.15)
         skills.set_arm(take, side, 15.0, take.vary(30.0, 0.15), elbow=60.0)
     skills.crouch(take, 10.0, 8.0)
-    _look(take, twist=take.wander(20.0, 0.3))
+    skills.turn_head(take, twist=take.wander(20.0, 0.3))
 
 
 def limp(take: Take) -> None:
@@ -528,7 +510,7 @@ def circular_movement(take: Take) -> None:
     skills.stand(take)
     rate = take.choice((1.0, -1.0)) * take.uniform(60.0, 90.0)
     skills.gait(take, skills.WALK, cadence=take.vary(1.6, 0.06), size=take.vary(0.75, 0.06), turn=rate)
-    _look(take, twist=0.15 * rate)
+    skills.turn_head(take, twist=0.15 * rate)
 
 
 def turn(take: Take) -> None:
@@ -589,7 +571,7 @@ def crawl(take: Take) -> None:
         take.contact[:, SIDES.index(side)] = 1.0 - np.minimum(1.0, 4.0 * swing)
     take.contact[take.contact.sum(axis=1) < 1e-3] = 0.5
     take["pelvis.obliquity"] += 2.0 * np.sin(2 * np.pi * phase)
-    _look(take, flex=-30.0)
+    skills.turn_head(take, flex=-30.0)
     for side, offset in (("left", 0.5), ("right", 0.0)):  # each hand with the opposite knee
         cycle = np.mod(phase - offset, 1.0)
         reach = timing.keyframes(cycle, [0.0, 0.6, 0.8, 1.0], [0.15, -0.05, 0.06, 0.15]) * size
@@ -634,7 +616,7 @@ def stand(take: Take) -> None:
     else:
         for side in SIDES:
             take[f"{side}_ankle.dorsi"] += take.wander(1.0, 0.3)
-    _look(take, twist=take.wander(6.0, 0.2))
+    skills.turn_head(take, twist=take.wander(6.0, 0.2))
 
 
 def _arms_out(take: Take, abd: float, *, pron: float) -> None:
@@ -713,7 +695,7 @@ def stances(take: Take) -> None:
             shift = np.array([0.0, -0.03, 0.06]) if side == lead else np.array([-0.02, -0.05, -0.01])
             skills.reach(take, side, guard + shift,
                          elbow_hint=(0.4, -1.0, 0.0))
-        _look(take, twist=10.0 * _leftward(lead))
+        skills.turn_head(take, twist=10.0 * _leftward(lead))
         return
     skills.stand(take)
     if take.mode == "horse stance":
@@ -752,7 +734,7 @@ def wait(take: Take) -> None:
     glances = np.zeros(take.num_frames)
     for t0 in skills.beats(take, take.vary(2.8, 0.2), jitter=0.3):
         glances += take.choice((1.0, -1.0)) * take.uniform(30.0, 45.0) * skills.bumps(take, [t0], take.vary(1.4, 0.2))
-    _look(take, twist=glances, flex=take.wander(4.0, 0.3))
+    skills.turn_head(take, twist=glances, flex=take.wander(4.0, 0.3))
 
 
 def balance(take: Take) -> None:
@@ -775,18 +757,14 @@ def balance(take: Take) -> None:
         take.contact[:, SIDES.index(free)] = 0.0
         skills.bend_trunk(take, wobble)
     else:  # one careful step at a time along a line
-        step_, pause = take.vary(0.75, 0.1) / take.tempo, take.uniform(0.15, 0.4)
-        count = max(1, int(take.duration // (step_ + pause)))
-        squeeze = min(1.0, 0.95 * take.duration / (count * (step_ + pause)))
-        _step_series(take, take.uniform(0.0, 0.1), count, take.vary(0.16, 0.12), step=step_ * squeeze,
-                     pause=pause * squeeze, first=take.choice(SIDES), close=False)
+        _paced_steps(take, take.vary(0.75, 0.1) / take.tempo, take.uniform(0.15, 0.4), length=0.16)
         for side in SIDES:
             take[f"{side}_hip.abd"] -= 4.0  # feet on one line
             skills.set_arm(take, side, 5.0 + take.wander(6.0, 1.0),
                            take.vary(75.0, 0.1) + _leftward(side) * 2.0 * wobble,
                            elbow=15.0)
         skills.bend_trunk(take, 0.8 * wobble)
-        _look(take, flex=25.0)
+        skills.turn_head(take, flex=25.0)
 
 
 def lean(take: Take) -> None:
@@ -850,7 +828,7 @@ def support(take: Take) -> None:
         take[f"{side}_collar.elev"] += 6.0 * breath * env
         skills.set_arm(take, side, skills.trunk_pitch(take) * 0.7 + 18.0 * env, 8.0 + 6.0 * env,
                        elbow=take.subject.arm_carry + 10.0 * env)
-    _look(take, flex=-20.0 * env)
+    skills.turn_head(take, flex=-20.0 * env)
 
 
 # Near group sit / kneel / crouch / squat / stand up: sit lowers onto a seat behind (thighs horizontal, trunk
@@ -885,7 +863,7 @@ def kneel(take: Take) -> None:
             take[f"{side}_knee.flex"] += 77.0 * down
             take[f"{side}_ankle.dorsi"] -= 50.0 * down
         take["spine1.flex"] += 12.0 * _curve(take, k, 0.0, 1.0, 0.0)
-    _look(take, flex=8.0 * down)
+    skills.turn_head(take, flex=8.0 * down)
 
 
 def crouch(take: Take) -> None:
@@ -899,17 +877,17 @@ def crouch(take: Take) -> None:
                                                                   0.08) * down, heel=25.0 * down)
     if take.mode == "hands on the floor":
         _hands_to_floor(take, down, forward=0.08, out=-0.05)
-        _look(take, flex=-15.0 * down)
+        skills.turn_head(take, flex=-15.0 * down)
     else:
         for side in SIDES:
             skills.toward(take, side, down, _at(take, 0.1, -0.3, 0.3), elbow_hint=(0.6, -1.0, 0.0))
-        _look(take, flex=-20.0 * down, twist=take.wander(25.0, 0.4) * down)
+        skills.turn_head(take, flex=-20.0 * down, twist=take.wander(25.0, 0.4) * down)
 
 
 def _on_body(take: Take, side: str, weights: dict, offset=(0.0, 0.0, 0.0)) -> np.ndarray:
     """``[T, 3]`` side-normalised thorax-frame target at a weighted mix of joint positions (``{joint: weight}``) of
     the pose built so far, plus ``offset`` (template m along the subject's facing: x left, y up, z forward)."""
-    rot, pos = _fk(take)
+    rot, pos = skills.posed(take)
     point = sum(w * pos[:, _J[j]] for j, w in weights.items())
     h = np.radians(take["pelvis.heading"])
     o = np.asarray(offset, float) * take.scale()
@@ -945,7 +923,7 @@ def hand_movements(take: Take) -> None:
         skills.toward(take, side, env, _at(take, 0.12, -0.17, 0.3) + drift, elbow_hint=(0.6, -1.0, -0.3))
         take[f"{side}_elbow.pron"] = (20.0 + take.wander(35.0, 1.0)) * env
         take[f"{side}_wrist.flex"] += take.wander(15.0, 1.2) * env
-    _look(take, flex=12.0 * env)
+    skills.turn_head(take, flex=12.0 * env)
 
 
 def arm_movements(take: Take) -> None:
@@ -1018,7 +996,7 @@ def to_lower_a_body_part(take: Take) -> None:
                            elbow=5.0 + (take.subject.arm_carry - 5.0) * down)
             _orient(take, side, 1 - down, 60.0)
     else:
-        _look(take, flex=take.vary(40.0, 0.15) * down)
+        skills.turn_head(take, flex=take.vary(40.0, 0.15) * down)
         take["spine3.flex"] += 8.0 * down
         take["spine2.flex"] += 8.0 * down
 
@@ -1038,7 +1016,7 @@ def gesture(take: Take) -> None:
         skills.set_arm(take, side, 3.0 + 25.0 * env, 10.0 + 10.0 * env,
                        elbow=take.subject.arm_carry + env * (25.0 + 80.0 * curl))
         _orient(take, side, env, -75.0, 30.0 * curl)
-        _look(take, twist=_leftward(side) * 5.0 * env)
+        skills.turn_head(take, twist=_leftward(side) * 5.0 * env)
         return
     for arm in (SIDES if take.rng.uniform() < 0.6 else (side,)):
         beats = skills.bumps(take, skills.beats(take, take.vary(0.8, 0.2), jitter=0.35), take.vary(0.3, 0.15))
@@ -1046,7 +1024,7 @@ def gesture(take: Take) -> None:
             [0.04 * beats, -0.06 * beats, 0.05 * beats], -1)
         skills.toward(take, arm, env, target, elbow_hint=(0.7, -1.0, -0.2))
         _orient(take, arm, env, -60.0)
-    _look(take, flex=-5.0 * env, twist=take.wander(8.0, 0.4))
+    skills.turn_head(take, flex=-5.0 * env, twist=take.wander(8.0, 0.4))
 
 
 # Near group wave / greet / gesture / communicate: wave swings the raised forearm side to side (NTU's waves);
@@ -1067,7 +1045,7 @@ def greet(take: Take) -> None:
         skills.toward(take, "right", env, target, elbow_hint=(0.5, -1.0, -0.3))
         _orient(take, "right", env, -10.0)
         _lean(take, 8.0 * env)
-        _look(take, flex=8.0 * shaking)
+        skills.turn_head(take, flex=8.0 * shaking)
         return
     side = _hand(take)
     k = _keys(take, 0.5, 1.3, 0.5)
@@ -1075,7 +1053,7 @@ def greet(take: Take) -> None:
     skills.set_arm(take, side, 3.0 + 20.0 * env, 6.0 + 110.0 * env, rot=-70.0 * env,
                    elbow=take.subject.arm_carry + (55.0 - take.subject.arm_carry) * env)
     _orient(take, side, env, -20.0)
-    _look(take, flex=12.0 * skills.bumps(take, [k[1]], 0.6))
+    skills.turn_head(take, flex=12.0 * skills.bumps(take, [k[1]], 0.6))
 
 
 def communicate(take: Take) -> None:
@@ -1090,7 +1068,7 @@ def communicate(take: Take) -> None:
                       elbow_hint=(1.0, -0.5, 0.2))
         _orient(take, side, env, -40.0)
     _lean(take, 10.0 * calls)
-    _look(take, flex=-12.0 * env - 5.0 * calls, twist=take.wander(10.0, 0.3) * env)
+    skills.turn_head(take, flex=-12.0 * env - 5.0 * calls, twist=take.wander(10.0, 0.3) * env)
 
 
 # Near group clap / rub / spread / shake: clap parts and meets the palms sideways (NTU's); rub slides palm on
@@ -1173,7 +1151,7 @@ def shrug(take: Take) -> None:
             skills.set_arm(take, side, 3.0 + 12.0 * env, 6.0 + 20.0 * env, rot=-30.0 * env,
                            elbow=take.subject.arm_carry + 75.0 * env)
             _orient(take, side, env, -75.0)
-    _look(take, bend=take.choice((1.0, -1.0)) * 10.0 * env, flex=-5.0 * env)
+    skills.turn_head(take, bend=take.choice((1.0, -1.0)) * 10.0 * env, flex=-5.0 * env)
 
 
 # Near group punch / hit / knock / tap / press / martial art / sports move: punch is straight punches at shoulder
@@ -1204,7 +1182,7 @@ def knock(take: Take) -> None:
     target = base + (0.08 if door else 0.12) * take.scale() * taps[:, None] * direction
     skills.toward(take, side, env, target, elbow_hint=(0.6, -1.0, -0.2) if door else (0.8, -0.8, -0.2))
     _orient(take, side, env, 20.0 if door else -10.0, -15.0)
-    _look(take, flex=-5.0 * env)
+    skills.turn_head(take, flex=-5.0 * env)
 
 
 def tap(take: Take) -> None:
@@ -1221,7 +1199,7 @@ def tap(take: Take) -> None:
         target = _at(take, 0.5, 0.02, 0.25) + 0.04 * take.scale() * pats[:, None] * np.array([0.0, -1.0, 0.0])
         skills.toward(take, side, env, target, elbow_hint=(0.2, -1.0, -0.4))
         _orient(take, side, env, 70.0, 10.0 * pats)
-        _look(take, twist=_leftward(side) * 35.0 * env)
+        skills.turn_head(take, twist=_leftward(side) * 35.0 * env)
         skills.turn_trunk(take, _leftward(side) * 10.0 * env)
         return
     taps = skills.bumps(take, skills.beats(take, take.vary(0.45, 0.2), jitter=0.3), 0.2) * working
@@ -1230,7 +1208,7 @@ def tap(take: Take) -> None:
     target = _at(take, 0.1, -0.2, 0.3) + spot + 0.03 * take.scale() * taps[:, None] * np.array([0.0, -0.6, 0.8])
     skills.toward(take, side, env, target, elbow_hint=(0.5, -1.0, -0.3))
     _orient(take, side, env, 40.0, -10.0 - 15.0 * taps)
-    _look(take, flex=10.0 * env)
+    skills.turn_head(take, flex=10.0 * env)
 
 
 def press_something(take: Take) -> None:
@@ -1263,7 +1241,7 @@ def press_something(take: Take) -> None:
         target = _at(take, 0.15, 0.02, 0.42) + 0.03 * take.scale() * effort[:, None] * np.array([0.0, 0.0, 1.0])
         skills.toward(take, side, env, target, elbow_hint=(0.8, -1.0, -0.3))
         _orient(take, side, env, 60.0, -50.0)
-    _look(take, flex=-10.0 * env)
+    skills.turn_head(take, flex=-10.0 * env)
 
 
 def hit(take: Take) -> None:
@@ -1291,7 +1269,7 @@ def hit(take: Take) -> None:
         take[f"{side}_shoulder.rot"] = 0.0
         take[f"{side}_elbow.flex"] = take.subject.arm_carry + curve(0, 70, 70, 0, 0)
         skills.turn_trunk(take, _leftward(side) * curve(0, -25, -25, 25, 0))
-    _look(take, flex=curve(0, 0, 0, 10, 0))
+    skills.turn_head(take, flex=curve(0, 0, 0, 10, 0))
 
 
 def kata(take: Take) -> None:
@@ -1312,7 +1290,7 @@ def kata(take: Take) -> None:
         skills.reach(take, side, chamber + strike[:, None] * (out - chamber), elbow_hint=(0.3, -0.6, -1.0))
         take[f"{side}_elbow.pron"] = -60.0 + 140.0 * strike  # the fist turns over as it lands
         skills.turn_trunk(take, -_leftward(side) * 10.0 * strike)
-    _look(take, flex=-5.0)
+    skills.turn_head(take, flex=-5.0)
 
 
 def protect(take: Take) -> None:
@@ -1325,7 +1303,7 @@ def protect(take: Take) -> None:
             skills.toward(take, side, env, take.head_point() + _at(take, 0.07, 0.1, 0.03), elbow_hint=(0.4, -0.2, 1.0))
             _orient(take, side, env, 0.0)
         skills.crouch(take, 35.0 * env, 25.0 * env)
-        _look(take, flex=25.0 * env)
+        skills.turn_head(take, flex=25.0 * env)
         return
     away = take.choice((1.0, -1.0))
     for side in SIDES:
@@ -1334,7 +1312,7 @@ def protect(take: Take) -> None:
     take["spine2.flex"] -= 8.0 * env
     take["spine3.flex"] -= 6.0 * env
     skills.turn_trunk(take, away * 20.0 * env)
-    _look(take, twist=away * 25.0 * env, flex=10.0 * env)
+    skills.turn_head(take, twist=away * 25.0 * env, flex=10.0 * env)
 
 
 # Near group evade / protect / sudden movement / stumble / trip / get injured: evade is a deliberate quick duck or
@@ -1354,7 +1332,7 @@ def evade(take: Take) -> None:
         skills.crouch(take, take.vary(75.0, 0.12) * env, take.vary(35.0, 0.15) * env)
         for side in SIDES:
             skills.set_arm(take, side, 3.0 + 45.0 * env, 6.0 + 25.0 * env, elbow=take.subject.arm_carry + 60.0 * env)
-        _look(take, flex=15.0 * env)
+        skills.turn_head(take, flex=15.0 * env)
         return
     side = take.choice(SIDES)
     take[f"{side}_hip.abd"] += take.vary(18.0, 0.15) * env
@@ -1384,7 +1362,7 @@ def sudden_movement(take: Take) -> None:
         take["spine2.flex"] -= 8.0 * jolt
         take["spine3.flex"] -= 6.0 * jolt
         skills.crouch(take, 15.0 * jolt, 0.0)
-        _look(take, flex=-15.0 * jolt)
+        skills.turn_head(take, flex=-15.0 * jolt)
         return
     sign = take.choice((1.0, -1.0))
     skills.bend_trunk(take, sign * 18.0 * jolt)
@@ -1393,7 +1371,7 @@ def sudden_movement(take: Take) -> None:
     for side in SIDES:
         skills.set_arm(take, side, 3.0 + 20.0 * jolt, 6.0 + (45.0 if _leftward(side) == -sign else 15.0) * jolt,
                        elbow=take.subject.arm_carry + 30.0 * jolt)
-    _look(take, twist=-sign * 25.0 * jolt)
+    skills.turn_head(take, twist=-sign * 25.0 * jolt)
 
 
 def get_injured(take: Take) -> None:
@@ -1409,7 +1387,7 @@ def get_injured(take: Take) -> None:
         skills.crouch(take, 22.0 * hurt, 25.0 * hurt)
         for side in SIDES:
             skills.toward(take, side, hurt, _at(take, 0.06, -0.3, 0.2), elbow_hint=(0.8, -1.0, 0.0))
-        _look(take, flex=15.0 * hurt)
+        skills.turn_head(take, flex=15.0 * hurt)
     elif take.mode == "shoulder":
         skills.recoil(take, t_hit, strength=1.0, where="chest")
         side = take.choice(SIDES)
@@ -1417,7 +1395,7 @@ def get_injured(take: Take) -> None:
         skills.set_arm(take, side, 3.0 + 10.0 * hurt, 6.0, elbow=take.subject.arm_carry + 25.0 * hurt)
         skills.bend_trunk(take, _leftward(side) * 10.0 * hurt)
         skills.stance_steps(take, [(t_hit + 0.15, 0.4, take.choice(SIDES), -0.2 * take.scale())])
-        _look(take, twist=_leftward(side) * 25.0 * hurt, flex=10.0 * hurt)
+        skills.turn_head(take, twist=_leftward(side) * 25.0 * hurt, flex=10.0 * hurt)
     else:
         skills.recoil(take, t_hit, strength=0.6, where="chest")
         leg = take.choice(SIDES)
@@ -1433,7 +1411,7 @@ def get_injured(take: Take) -> None:
                "right": _on_body(take, "right", {f"{leg}_knee": 0.65, f"{leg}_hip": 0.35}, (0.0, 0.0, 0.08))}
         for side in SIDES:
             skills.toward(take, side, hurt, pts[side], elbow_hint=(0.6, -1.0, 0.0))
-        _look(take, flex=25.0 * hurt)
+        skills.turn_head(take, flex=25.0 * hurt)
 
 
 def stumble(take: Take) -> None:
@@ -1466,7 +1444,7 @@ def stumble(take: Take) -> None:
         for arm in SIDES:
             skills.set_arm(take, arm, 3.0 + 15.0 * lurch, 6.0 + 60.0 * lurch,
                            elbow=take.subject.arm_carry + 15.0 * lurch)
-    _look(take, flex=10.0 * lurch)
+    skills.turn_head(take, flex=10.0 * lurch)
 
 
 def trip(take: Take) -> None:
@@ -1502,7 +1480,7 @@ def trip(take: Take) -> None:
         take[f"{arm}_shoulder.plane"] = (1 - pitch) * take[f"{arm}_shoulder.plane"] + pitch * 80.0
         take[f"{arm}_shoulder.elev"] = (1 - pitch) * take[f"{arm}_shoulder.elev"] + pitch * flung
         take[f"{arm}_elbow.flex"] = (1 - pitch) * take[f"{arm}_elbow.flex"] + pitch * 25.0
-    _look(take, flex=-15.0 * pitch)
+    skills.turn_head(take, flex=-15.0 * pitch)
 
 
 # --- head, trunk and legs ---------------------------------------------------------------------------------------
@@ -1517,11 +1495,11 @@ def head_movements(take: Take) -> None:
     skills.stand(take)
     env = _spell(take, 0.3, 0.3, (0.75, 0.97))
     if take.mode == "nod":
-        _look(take, flex=take.vary(20.0, 0.15) * (0.5 + 0.5 * _oscillation(take, take.vary(1.8, 0.15))) * env)
+        skills.turn_head(take, flex=take.vary(20.0, 0.15) * (0.5 + 0.5 * _oscillation(take, take.vary(1.8, 0.15))) * env)
     elif take.mode == "shake":
-        _look(take, twist=take.vary(30.0, 0.15) * _oscillation(take, take.vary(1.5, 0.15)) * env)
+        skills.turn_head(take, twist=take.vary(30.0, 0.15) * _oscillation(take, take.vary(1.5, 0.15)) * env)
     else:
-        _look(take, bend=take.vary(20.0, 0.2) * _oscillation(take, take.vary(0.6, 0.15)) * env)
+        skills.turn_head(take, bend=take.vary(20.0, 0.2) * _oscillation(take, take.vary(0.6, 0.15)) * env)
 
 
 def look(take: Take) -> None:
@@ -1534,12 +1512,12 @@ def look(take: Take) -> None:
         for t0 in skills.beats(take, take.vary(1.7, 0.15), jitter=0.2, first=take.uniform(0.0, 0.4)):
             yaw += sign * take.uniform(40.0, 70.0) * skills.bumps(take, [t0], take.vary(1.5, 0.15))
             sign = -sign
-        _look(take, twist=0.75 * yaw, flex=take.wander(6.0, 0.4))
+        skills.turn_head(take, twist=0.75 * yaw, flex=take.wander(6.0, 0.4))
         skills.turn_trunk(take, 0.25 * yaw)
         return
     k = _keys(take, 0.5, 0.7, 0.6, 0.7, 0.5)
     pitch = _curve(take, k, 0, -1, -1, 1, 1, 0) * take.vary(35.0, 0.15)
-    _look(take, flex=pitch)
+    skills.turn_head(take, flex=pitch)
     take["spine3.flex"] += 0.15 * pitch
     take["spine2.flex"] += 0.1 * pitch
 
@@ -1596,7 +1574,7 @@ def foot_movements(take: Take) -> None:
         take[f"{foot}_knee.flex"] += 30.0 * env
         take[f"{foot}_ankle.dorsi"] += (15.0 * np.sin(phase) - 10.0) * env
         take[f"{foot}_ankle.inv"] += (20.0 * np.cos(phase) + 5.0) * env
-    _look(take, flex=25.0 * env)
+    skills.turn_head(take, flex=25.0 * env)
 
 
 # Near group waist movements / upper body movements / twist / sway / swing body part / side to side movement:
@@ -1736,7 +1714,7 @@ def slide(take: Take) -> None:
     take.contact[:, 1 - k] = 1.0 - weight
     for side in SIDES:
         skills.set_arm(take, side, 10.0, 20.0 + 15.0 * timing.keyframes(p, keys, [0, 1, 1, 0, 0]), elbow=30.0)
-    _look(take, twist=travel * 20.0)
+    skills.turn_head(take, twist=travel * 20.0)
 
 
 def rolling_movement(take: Take) -> None:
@@ -1780,7 +1758,7 @@ def swim(take: Take) -> None:
             skills.set_arm(take, side, 3.0 + env * (flex - 3.0), 6.0 + env * (abd - 6.0),
                            elbow=take.subject.arm_carry + env * (elbow - take.subject.arm_carry))
         breathe = np.maximum(np.sin(2 * np.pi * phase), 0.0) ** 2
-        _look(take, twist=take.choice((1.0, -1.0)) * 45.0 * breathe * env, flex=-10.0 * env)
+        skills.turn_head(take, twist=take.choice((1.0, -1.0)) * 45.0 * breathe * env, flex=-10.0 * env)
         return
     phase = timing.warped_phase(take.t, take.vary(0.7, 0.12) * take.tempo, take.rng)
     knots = [0.0, 0.3, 0.55, 0.8]
@@ -1789,7 +1767,7 @@ def swim(take: Take) -> None:
     for side in SIDES:
         skills.toward(take, side, env, path, elbow_hint=(0.9, -1.0, -0.2))
         _orient(take, side, env, 70.0)
-    _look(take, flex=-15.0 * env)
+    skills.turn_head(take, flex=-15.0 * env)
 
 
 def play_instrument(take: Take) -> None:
@@ -1809,7 +1787,7 @@ def play_instrument(take: Take) -> None:
         skills.toward(take, strum, env, _at(take, -0.02, -0.3, 0.2) + np.stack([0.0 * sweep, sweep, 0.0 * sweep], -1),
                       elbow_hint=(0.8, -0.6, -0.3))
         _orient(take, strum, env, 60.0)
-        _look(take, flex=20.0 * env, twist=_leftward(fret) * 15.0 * env)
+        skills.turn_head(take, flex=20.0 * env, twist=_leftward(fret) * 15.0 * env)
         return
     rate = take.vary(2.0, 0.12) * take.tempo
     for n, side in enumerate(SIDES):
@@ -1818,7 +1796,7 @@ def play_instrument(take: Take) -> None:
         skills.toward(take, side, env, target, elbow_hint=(0.8, -1.0, -0.3))
         _orient(take, side, env, 60.0, 25.0 * hit_)
     skills.crouch(take, 10.0 + 4.0 * np.cos(4 * np.pi * rate * take.t), 8.0)
-    _look(take, flex=(15.0 + 6.0 * np.cos(2 * np.pi * rate * take.t)) * env)
+    skills.turn_head(take, flex=(15.0 + 6.0 * np.cos(2 * np.pi * rate * take.t)) * env)
 
 
 def misc_abstract_action(take: Take) -> None:
@@ -1833,7 +1811,7 @@ def misc_abstract_action(take: Take) -> None:
         skills.turn_trunk(take, take.wander(15.0, 0.4))
         skills.bend_trunk(take, take.wander(8.0, 0.4))
         skills.crouch(take, 12.0 + take.wander(10.0, 0.4), 5.0 + take.wander(6.0, 0.4))
-    _look(take, twist=take.wander(10.0, 0.4))
+    skills.turn_head(take, twist=take.wander(10.0, 0.4))
 
 
 def move_misc_body_part(take: Take) -> None:
@@ -1854,7 +1832,7 @@ def move_misc_body_part(take: Take) -> None:
         v = timing.keyframes(take.t, keys, np.array([pts[0]] + [p for q in pts[1:] for p in (q, q)])[: len(keys)])
         skills.set_arm(take, side, v[:, 0], v[:, 1], elbow=v[:, 2])
         take[f"{side}_elbow.pron"] = v[:, 3]
-        _look(take, twist=_leftward(side) * 15.0)
+        skills.turn_head(take, twist=_leftward(side) * 15.0)
         return
     pts = [[0.0, 0.0, 0.0]] + [[take.uniform(10, 45), take.uniform(0, 25), take.uniform(20, 80)] for _ in range(count)]
     v = timing.keyframes(take.t, keys, np.array([pts[0]] + [p for q in pts[1:] for p in (q, q)])[: len(keys)])
@@ -1867,7 +1845,7 @@ def move_misc_body_part(take: Take) -> None:
     take.contact[:, 1 - k] = 1.0 - take.contact[:, k]
     for arm in SIDES:
         skills.set_arm(take, arm, 5.0, 15.0, elbow=take.subject.arm_carry)
-    _look(take, flex=20.0)
+    skills.turn_head(take, flex=20.0)
 
 
 def perform(take: Take) -> None:
@@ -1894,7 +1872,7 @@ def perform(take: Take) -> None:
                 take[f"{side}_shoulder.elev"][on] = np.maximum(take[f"{side}_shoulder.elev"][on], up_arm[on])
                 take[f"{side}_elbow.flex"][on] = (1 - vee[on]) * take[f"{side}_elbow.flex"][on] + vee[on] * 8.0
         _lean(take, bow_)
-        _look(take, flex=0.4 * bow_ - 10.0 * vee)
+        skills.turn_head(take, flex=0.4 * bow_ - 10.0 * vee)
         back = other(hand)
         take[f"{back}_hip.flex"] -= 12.0 * chest
         take[f"{back}_ankle.dorsi"] += 10.0 * chest
@@ -1911,7 +1889,7 @@ def perform(take: Take) -> None:
     take.contact[:, SIDES.index(foot)] = 0.5 - 0.35 * up
     take.contact[:, 1 - SIDES.index(foot)] = 0.5 + 0.35 * up
     take["spine2.flex"] -= 6.0 * up
-    _look(take, flex=-15.0 * up)
+    skills.turn_head(take, flex=-15.0 * up)
 
 
 # Near group bow / bend / lean / touch ground / perform: bow is a short 30-40 degree nod of the trunk with the
@@ -1929,7 +1907,7 @@ def deep_bow(take: Take) -> None:
     _lean(take, take.vary(62.0, 0.1) * env)
     for side in SIDES:
         skills.set_arm(take, side, skills.trunk_pitch(take) - 8.0 * env, 4.0, elbow=take.subject.arm_carry)
-    _look(take, flex=15.0 * env)
+    skills.turn_head(take, flex=15.0 * env)
 
 
 def bend(take: Take) -> None:
@@ -1943,7 +1921,7 @@ def bend(take: Take) -> None:
         skills.crouch(take, 8.0 * env, take.vary(100.0, 0.08) * env)
         for side in SIDES:
             skills.hang_arm(take, side, forward=5.0 * env)
-        _look(take, flex=10.0 * env)
+        skills.turn_head(take, flex=10.0 * env)
         return
     side = take.choice(SIDES)
     skills.bend_trunk(take, _leftward(side) * take.vary(28.0, 0.12) * env)
@@ -1968,7 +1946,7 @@ def touch_ground(take: Take) -> None:
         skills.set_arm(take, other(side), 3.0 + 50.0 * env, 6.0 + 10.0 * env, elbow=take.subject.arm_carry + 30 * env)
     for side in SIDES:
         take[f"{side}_wrist.flex"] -= 50.0 * env
-    _look(take, flex=15.0 * env)
+    skills.turn_head(take, flex=15.0 * env)
 
 
 def cartwheel(take: Take) -> None:
@@ -2000,7 +1978,7 @@ def cartwheel(take: Take) -> None:
     take.contact[landing, SIDES.index(far)] = 1.0
     take.contact[landing, SIDES.index(lead)] = 0.0
     take[f"{lead}_hip.abd"] += 20.0 * _curve(take, [k[3], k[4], k[5]], 0, 1, 0)
-    _look(take, bend=sign * 10.0 * tip, flex=20.0 * tip)
+    skills.turn_head(take, bend=sign * 10.0 * tip, flex=20.0 * tip)
 
 
 # --- balls and sports ---------------------------------------------------------------------------------------------
@@ -2028,7 +2006,7 @@ def catch(take: Take) -> None:
         skills.toward(take, side, ready, target, elbow_hint=(0.7, -1.0, -0.2))
         _orient(take, side, ready, -30.0, -20.0 * meet)
     skills.crouch(take, 10.0 * ready + 12.0 * _curve(take, [k[2], k[3], k[4]], 0, 1, 0), 5.0)
-    _look(take, flex=(-25.0 if high else -5.0) * meet)
+    skills.turn_head(take, flex=(-25.0 if high else -5.0) * meet)
 
 
 def play_catch(take: Take) -> None:
@@ -2105,14 +2083,14 @@ def golf(take: Take) -> None:
                           _curve(take, k, 0, -0.45, 0.05, -0.48, 0.05, 0.0, 0),
                           _curve(take, k, 0, 0.3, 0.05, 0.32, 0.0, 0.05, 0)], -1)
         skills.turn_trunk(take, 45.0 * take.amp * turn_)
-        _look(take, flex=_curve(take, k, 0, 30, 30, 30, 5, 0, 0), twist=_curve(take, k, 0, 0, 0, 0, 35, 35, 0))
+        skills.turn_head(take, flex=_curve(take, k, 0, 30, 30, 30, 5, 0, 0), twist=_curve(take, k, 0, 0, 0, 0, 35, 35, 0))
     else:
         turn_ = _curve(take, k, 0, 0, -0.15, 0.15, 0, 0)
         hands = np.stack([_curve(take, k, 0, 0, -0.12, 0.12, 0.0, 0),
                           _curve(take, k, 0, -0.5, -0.48, -0.48, -0.5, 0),
                           _curve(take, k, 0, 0.25, 0.25, 0.25, 0.25, 0)], -1)
         skills.turn_trunk(take, 20.0 * turn_)
-        _look(take, flex=30.0 * address)
+        skills.turn_head(take, flex=30.0 * address)
     hands = hands * take.scale()
     for side in SIDES:
         target = hands.copy()
@@ -2155,7 +2133,7 @@ def touch_object(take: Take) -> None:
     skills.toward(take, side, env, spot + np.stack([rub, 0.0 * rub, 0.0 * rub], -1), elbow_hint=(0.5, -1.0, -0.3))
     _orient(take, side, env, 70.0, -20.0)
     _lean(take, lean_ * env)
-    _look(take, flex=(20.0 if lean_ else -10.0) * env)
+    skills.turn_head(take, flex=(20.0 if lean_ else -10.0) * env)
 
 
 def grasp_object(take: Take) -> None:
@@ -2171,7 +2149,7 @@ def grasp_object(take: Take) -> None:
     skills.toward(take, side, reach_, spot + back[:, None] * (chest - spot), elbow_hint=(0.5, -1.0, -0.3))
     _orient(take, side, reach_, 30.0 - 50.0 * back, -15.0 * _curve(take, k, 0, 0, 1, 1))
     _lean(take, lean_ * _curve(take, k, 0, 1, 1, 0))
-    _look(take, flex=(20.0 if lean_ else -10.0) * _curve(take, k, 0, 1, 1, 0.5))
+    skills.turn_head(take, flex=(20.0 if lean_ else -10.0) * _curve(take, k, 0, 1, 1, 0.5))
 
 
 def place_something(take: Take) -> None:
@@ -2188,7 +2166,7 @@ def place_something(take: Take) -> None:
         skills.toward(take, side, 1.0 - free, target, elbow_hint=(0.6, -1.0, -0.3))
         _orient(take, side, 1.0 - free, 0.0, -10.0 * out)
     _lean(take, lean_ * _curve(take, k, 0, 0, 1, 1, 0))
-    _look(take, flex=(20.0 if lean_ else -10.0) * _curve(take, k, 0, 1, 1, 1, 0))
+    skills.turn_head(take, flex=(20.0 if lean_ else -10.0) * _curve(take, k, 0, 1, 1, 1, 0))
 
 
 def lift_overhead(take: Take) -> None:
@@ -2204,7 +2182,7 @@ def lift_overhead(take: Take) -> None:
         _orient(take, side, hold, 0.0, -30.0 * up)
     skills.crouch(take, 25.0 * _curve(take, k, 0, 0, 1, 0, 0), 3.0)
     take["spine2.flex"] -= 6.0 * up
-    _look(take, flex=-25.0 * up)
+    skills.turn_head(take, flex=-25.0 * up)
 
 
 def slide_aside(take: Take) -> None:
@@ -2223,7 +2201,7 @@ def slide_aside(take: Take) -> None:
         skills.toward(take, side, on, target, elbow_hint=(0.6, -1.0, -0.3))
         _orient(take, side, on, 70.0, -30.0)
     skills.turn_trunk(take, 25.0 * sign * (1 - 2 * across) * on)
-    _look(take, flex=20.0 * on, twist=20.0 * sign * (1 - 2 * across) * on)
+    skills.turn_head(take, flex=20.0 * on, twist=20.0 * sign * (1 - 2 * across) * on)
 
 
 def interact_with_object(take: Take) -> None:
@@ -2246,7 +2224,7 @@ def interact_with_object(take: Take) -> None:
         skills.toward(take, worker, env, target, elbow_hint=(0.6, -1.0, -0.3))
         _orient(take, worker, env, 10.0, 25.0 * blow)
     _lean(take, 10.0 * env)
-    _look(take, flex=25.0 * env)
+    skills.turn_head(take, flex=25.0 * env)
 
 
 def clean_something(take: Take) -> None:
@@ -2265,7 +2243,7 @@ def clean_something(take: Take) -> None:
         _orient(take, side, env, 80.0, -25.0)
         skills.toward(take, other(side), env, _at(take, 0.2, -0.38, 0.3), elbow_hint=(0.6, -1.0, -0.3))
         _orient(take, other(side), env, 80.0, -40.0)
-        _look(take, flex=25.0 * env)
+        skills.turn_head(take, flex=25.0 * env)
         return
     centre = _at(take, 0.08, 0.02, 0.45)
     path = centre + np.stack([r * np.cos(angle), r * np.sin(angle), 0.0 * angle], -1)
@@ -2288,7 +2266,7 @@ def grab_person(take: Take) -> None:
             _orient(take, side, out, 10.0, 20.0 * pull)
         take["spine1.flex"] -= 10.0 * pull
         skills.stance_steps(take, [(k[2], k[3] - k[2], take.choice(SIDES), -0.25 * take.scale())])
-        _look(take, flex=-5.0 * out)
+        skills.turn_head(take, flex=-5.0 * out)
         return
     side = _hand(take)
     grip = _at(take, 0.1, -0.22, 0.5)
@@ -2318,7 +2296,7 @@ def scratch(take: Take) -> None:
         spot = take.head_point() + _at(take, 0.11, 0.1, 0.0)
         skills.toward(take, side, env, spot + np.stack([0.0 * rub, 0.5 * rub, rub], -1), elbow_hint=(1.0, 0.0, 0.2))
         _orient(take, side, env, -20.0, 25.0)
-        _look(take, bend=_leftward(side) * 10.0 * env, flex=5.0 * env)
+        skills.turn_head(take, bend=_leftward(side) * 10.0 * env, flex=5.0 * env)
         return
     _lean(take, 20.0 * env)
     for leg in SIDES:
@@ -2326,7 +2304,7 @@ def scratch(take: Take) -> None:
     spot = _on_body(take, side, {f"{side}_knee": 0.6, f"{side}_hip": 0.4}, (0.0, 0.0, 0.09))
     skills.toward(take, side, env, spot + np.stack([0.0 * rub, rub, 0.0 * rub], -1), elbow_hint=(0.6, -1.0, -0.2))
     _orient(take, side, env, 60.0, 20.0)
-    _look(take, flex=25.0 * env)
+    skills.turn_head(take, flex=25.0 * env)
 
 
 def touching_body_part(take: Take) -> None:
@@ -2340,14 +2318,14 @@ def touching_body_part(take: Take) -> None:
     if take.mode == "shoulder":
         skills.toward(take, side, env, _at(take, -0.13, 0.07, 0.07), elbow_hint=(0.6, -1.0, 0.3))
         _orient(take, side, env, 20.0)
-        _look(take, twist=-_leftward(side) * 15.0 * env)
+        skills.turn_head(take, twist=-_leftward(side) * 15.0 * env)
         return
     _lean(take, 35.0 * env)
     for leg in SIDES:
         take[f"{leg}_knee.flex"] += 12.0 * env
     spot = _on_body(take, side, {f"{side}_knee": 1.0}, (0.0, 0.03, 0.08))
     skills.toward(take, side, env, spot, elbow_hint=(0.6, -1.0, -0.2))
-    _look(take, flex=25.0 * env)
+    skills.turn_head(take, flex=25.0 * env)
 
 
 def touching_face(take: Take) -> None:
@@ -2362,11 +2340,11 @@ def touching_face(take: Take) -> None:
                       elbow_hint=(0.3, -1.0, 0.2))
         _orient(take, side, env, -30.0, -20.0)
         skills.toward(take, other(side), env, _at(take, -0.05, -0.2, 0.2), elbow_hint=(0.6, -1.0, 0.0))
-        _look(take, flex=8.0 * env)
+        skills.turn_head(take, flex=8.0 * env)
         return
     skills.toward(take, side, env, take.head_point() + _at(take, 0.11, -0.035, 0.106), elbow_hint=(0.6, -1.0, 0.1))
     _orient(take, side, env, -20.0, -10.0)
-    _look(take, bend=_leftward(side) * 10.0 * env)
+    skills.turn_head(take, bend=_leftward(side) * 10.0 * env)
 
 
 def grab_wrist(take: Take) -> None:
@@ -2382,7 +2360,7 @@ def grab_wrist(take: Take) -> None:
     skills.toward(take, other(held), env, b + np.stack([0.0 * squeeze, squeeze, 0.0 * squeeze], -1),
                   elbow_hint=(0.6, -1.0, -0.3))
     _orient(take, other(held), env, 60.0)
-    _look(take, flex=20.0 * env)
+    skills.turn_head(take, flex=20.0 * env)
 
 
 def adjust(take: Take) -> None:
@@ -2396,12 +2374,12 @@ def adjust(take: Take) -> None:
     if take.mode == "collar":
         spot = _at(take, 0.08, 0.06, 0.14)
         direction = np.array([0.3, -0.3, 0.7])
-        _look(take, flex=15.0 * env)
+        skills.turn_head(take, flex=15.0 * env)
     else:
         spot = _at(take, 0.16, -0.38, 0.1)
         direction = np.array([0.0, 1.0, 0.0])
         skills.crouch(take, 10.0 * tugs, 5.0 * env)
-        _look(take, flex=20.0 * env)
+        skills.turn_head(take, flex=20.0 * env)
     for side in SIDES:
         skills.toward(take, side, env, spot + 0.025 * take.scale() * tugs[:, None] * direction,
                       elbow_hint=(0.9, -1.0, -0.2))
@@ -2455,7 +2433,7 @@ def move_back(take: Take) -> None:
     arm = _hand(take)
     skills.set_arm(take, arm, 3.0 + (45.0 + skills.trunk_pitch(take)) * (1 - back), 6.0,
                    elbow=take.subject.arm_carry)
-    _look(take, flex=15.0 * (1 - back))
+    skills.turn_head(take, flex=15.0 * (1 - back))
 
 
 def mix(take: Take) -> None:
@@ -2483,7 +2461,7 @@ def mix(take: Take) -> None:
     skills.set_arm(take, other(side), 3.0 + 60.0 * fold, 6.0, elbow=take.subject.arm_carry)
     for leg in SIDES:
         take[f"{leg}_ankle.dorsi"] -= 15.0 * up
-    _look(take, flex=-20.0 * up)
+    skills.turn_head(take, flex=-20.0 * up)
 
 
 # --- the class table ------------------------------------------------------------------------------------------------

@@ -73,16 +73,6 @@ def _held(take: Take, rise: float, fall: float, share: float) -> np.ndarray:
     return _curve(take, [t0, t0 + rise, t0 + rise + hold, t0 + rise + hold + fall], 0.0, 1.0, 1.0, 0.0)
 
 
-def _head(take: Take, pitch=0.0, yaw=0.0, roll=0.0) -> None:
-    """Turn the head: ``pitch`` + down, ``yaw`` + to the subject's left, ``roll`` + toward the left shoulder
-    (degrees); the neck takes 0.6 and the head joint 0.4 (MOTION_FACTS 2: cervical flexion 50-64, rotation 80,
-    about half of it at C1-C2)."""
-    for joint, share in (("neck", 0.6), ("head", 0.4)):
-        take[f"{joint}.flex"] += share * np.asarray(pitch)
-        take[f"{joint}.twist"] += share * np.asarray(yaw)
-        take[f"{joint}.bend"] += share * np.asarray(roll)
-
-
 def _lean(take: Take, angle) -> None:
     """Flex the trunk forward ``angle [T]`` degrees over the lumbar and thoracic spine (negative: arch back)."""
     for joint, share in (("spine1", 0.45), ("spine2", 0.35), ("spine3", 0.2)):
@@ -163,25 +153,10 @@ def _to_head(take: Take, side: str, env: np.ndarray, name: str, *, hint, shift=(
     _orient(take, side, *_hand(name), env)
 
 
-def _pose(take: Take) -> tuple[np.ndarray, np.ndarray]:
-    """Forward kinematics of the pose built so far (within the joint limits), root at the origin: ``(global
-    rotations [T, J, 3, 3], positions [T, J, 3])``; lets a class aim a hand at its own foot or knee."""
-    local = anatomy.angles_to_rotmats(anatomy.clip_to_limits(take.angles))
-    offsets = take.subject.offsets.astype(float)
-    rot = np.zeros_like(local)
-    pos = np.zeros(local.shape[:-1])
-    rot[:, 0] = local[:, 0]
-    for j in range(1, len(SMPL24.parents)):  # SMPL-24 parents precede their children
-        p = SMPL24.parents[j]
-        rot[:, j] = rot[:, p] @ local[:, j]
-        pos[:, j] = pos[:, p] + rot[:, p] @ offsets[j]
-    return rot, pos
-
-
 def _thorax_point(take: Take, side: str, joint: str, offset=(0.0, 0.0, 0.0)) -> np.ndarray:
     """``[T, 3]`` where ``joint`` (plus ``offset`` in its own frame, template m) is in the thorax frame,
     side-normalised for ``side``'s arm: a wrist target on the body itself."""
-    rot, pos = _pose(take)
+    rot, pos = skills.posed(take)
     j, chest = SMPL24.index(joint), SMPL24.index("spine3")
     point = pos[:, j] + rot[:, j] @ (take.scale() * np.asarray(offset, float))
     local = np.einsum("tba,tb->ta", rot[:, chest], point - pos[:, chest])
@@ -201,7 +176,7 @@ def _orient(take: Take, side: str, fingers, palm, weight=1.0) -> None:
     Per frame, every pronation on a 5-degree grid gets the wrist angles that aim the fingers (closed form,
     then clipped to the limits); the one with the least finger error plus half the palm error wins, and the
     winners are smoothed over ~0.1 s so the forearm does not flick between near-equal choices."""
-    rot, _ = _pose(take)
+    rot, _ = skills.posed(take)
     mirror = np.diag([-1.0 if side == "right" else 1.0, 1.0, 1.0])  # the right arm is the left's mirror image
     q = mirror @ np.einsum("tba,tbc->tac", rot[:, SMPL24.index("spine3")],
                            rot[:, SMPL24.index(f"{side}_elbow")]) @ mirror  # elbow frame in the thorax's
@@ -272,7 +247,7 @@ def brushing_teeth(take: Take) -> None:
     shift = np.stack([scrub + drift, 0.3 * scrub, np.zeros_like(scrub)], -1)
     _to_head(take, side, up, "brush", hint=(0.9, -0.6, -0.1), shift=shift)
     take[f"{side}_wrist.dev"] += 300.0 * scrub * up  # the wrist waggles with the strokes
-    _head(take, pitch=take.vary(8.0, 0.4) * up)
+    skills.turn_head(take, flex=take.vary(8.0, 0.4) * up)
 
 
 def brushing_hair(take: Take) -> None:
@@ -296,7 +271,7 @@ def brushing_hair(take: Take) -> None:
     target = take.head_point() + take.scale() * (knuckles - _HAND * _unit(fingers))
     skills.toward(take, side, up, target, elbow_hint=(1.0, 0.4, 0.0), bulge=0.05)
     _orient(take, side, fingers, palm, up)
-    _head(take, pitch=6.0 * up, roll=-_leftward(side) * take.vary(8.0, 0.3) * up)
+    skills.turn_head(take, flex=6.0 * up, bend=-_leftward(side) * take.vary(8.0, 0.3) * up)
 
 
 def drop(take: Take) -> None:
@@ -320,7 +295,7 @@ def drop(take: Take) -> None:
             _orient(take, side, (1 - r) * _unit((0.0, -0.4, 0.9)) + r * _unit((0.0, 0.4, 0.9)),
                     (0.0, -1.0, 0.2), hold)
     look = _curve(take, keys, 0, 0, 0, 0, 1, 1, 0.3)
-    _head(take, pitch=take.vary(30.0, 0.2) * look)
+    skills.turn_head(take, flex=take.vary(30.0, 0.2) * look)
     _lean(take, take.vary(10.0, 0.3) * look)
 
 
@@ -376,7 +351,7 @@ def reading(take: Take) -> None:
     skills.reach(take, turner, (1.0 - up)[:, None] * _rest(take) + up[:, None] * sweep, elbow_hint=(0.5, -1.0, -0.3))
     _orient(take, turner, *_HOLDS["book"][1:], up)
     scan = take.vary(4.0, 0.3) * np.sin(2 * np.pi * take.uniform(0.25, 0.45) * take.t)  # along the lines
-    _head(take, pitch=take.vary(22.0, 0.2) * up, yaw=scan * up + _leftward(other(turner)) * 5.0 * turns)
+    skills.turn_head(take, flex=take.vary(22.0, 0.2) * up, twist=scan * up + _leftward(other(turner)) * 5.0 * turns)
 
 
 def writing(take: Take) -> None:
@@ -402,7 +377,7 @@ def writing(take: Take) -> None:
     skills.toward(take, pen, up, nib, elbow_hint=(0.6, -1.0, -0.2))
     _orient(take, pen, (-0.5, -0.5, 0.7), (-0.6, -0.8, 0.0), up)
     take[f"{pen}_wrist.flex"] += 250.0 * wiggle[:, 1] / s * up
-    _head(take, pitch=take.vary(30.0, 0.15) * up, yaw=-4.0 * (along - 0.5) * up)
+    skills.turn_head(take, flex=take.vary(30.0, 0.15) * up, twist=-4.0 * (along - 0.5) * up)
 
 
 def tear_up_paper(take: Take) -> None:
@@ -427,7 +402,7 @@ def tear_up_paper(take: Take) -> None:
         _orient(take, side, (-0.3, 0.4, 0.85), (-0.5, -0.85, 0.0), up)
         if twist:
             take[f"{side}_elbow.pron"] += 40.0 * sign * tear
-    _head(take, pitch=take.vary(22.0, 0.2) * up)
+    skills.turn_head(take, flex=take.vary(22.0, 0.2) * up)
 
 
 # --- A014-A021: jacket, shoe, glasses, hat on and off ----------------------------------------------------
@@ -456,8 +431,8 @@ def wear_jacket(take: Take) -> None:
     shrug = _curve(take, keys, 0, 0, 0, 0, 0.5, 1, 0, 0)
     for side in SIDES:
         take[f"{side}_collar.elev"] += 12.0 * shrug
-    _head(take, pitch=_curve(take, keys, 5, 15, 10, 5, 5, 10, 20, 5),
-          yaw=toward_first * _curve(take, keys, 0, 0, 20, 0, -20, 0, 0, 0))
+    skills.turn_head(take, flex=_curve(take, keys, 5, 15, 10, 5, 5, 10, 20, 5),
+          twist=toward_first * _curve(take, keys, 0, 0, 20, 0, -20, 0, 0, 0))
 
 
 def take_off_jacket(take: Take) -> None:
@@ -480,8 +455,8 @@ def take_off_jacket(take: Take) -> None:
         take[f"{side}_collar.protr"] -= 15.0 * back
     take["spine3.flex"] -= 6.0 * back
     skills.turn_trunk(take, _leftward(first) * _curve(take, keys, 0, 0, 0, 10, -8, -12, 0) * take.amp)
-    _head(take, pitch=_curve(take, keys, 0, 10, 0, 5, 10, 20, 10),
-          yaw=_leftward(second) * _curve(take, keys, 0, 0, 0, 0, 15, 15, 0))
+    skills.turn_head(take, flex=_curve(take, keys, 0, 10, 0, 5, 10, 20, 10),
+          twist=_leftward(second) * _curve(take, keys, 0, 0, 0, 0, 15, 15, 0))
 
 
 def _sit_lean(take: Take, lean: np.ndarray) -> None:
@@ -528,7 +503,7 @@ def wear_a_shoe(take: Take) -> None:
         shoe = np.where(take.t[:, None] < keys[2], floor, heel + take.scale() * np.array([0.0, 0.05, 0.0])
                         * tug[:, None])
         skills.toward(take, hand, env, shoe, elbow_hint=(0.6, -1.0, -0.2), bulge=0.05)
-    _head(take, pitch=20.0 * _curve(take, keys, 0, 1, 1, 1, 1, 1, 0))
+    skills.turn_head(take, flex=20.0 * _curve(take, keys, 0, 1, 1, 1, 1, 1, 0))
 
 
 def take_off_a_shoe(take: Take) -> None:
@@ -569,7 +544,7 @@ def take_off_a_shoe(take: Take) -> None:
         helper = _thorax_point(take, other(foot), f"{foot}_ankle", (0.0, 0.04, 0.06))
         skills.toward(take, other(foot), on * (1.0 - aside), helper + pull[:, None] * away * [-1, 1, 1],
                       elbow_hint=(0.6, -1.0, -0.3), bulge=0.05)
-    _head(take, pitch=25.0 * np.maximum(on, aside), yaw=-sign * (0.0 if seated else 25.0) * up)
+    skills.turn_head(take, flex=25.0 * np.maximum(on, aside), twist=-sign * (0.0 if seated else 25.0) * up)
 
 
 _CHEST_GRIP = ((-0.3, 0.3, 0.9), (-0.7, -0.7, 0.0))  # holding something small before the chest
@@ -599,7 +574,7 @@ def wear_on_glasses(take: Take) -> None:
                                      _spot(take, "hinge"), None] + extra + [None], hint=(0.8, -1.0, -0.1),
                   hands=[None, _CHEST_GRIP, _CHEST_GRIP, _hand("lens"), _hand("hinge"), _hand("hinge"), None]
                   + (bridge_hand if side == "right" else [None, None]) + [None])
-    _head(take, pitch=_curve(take, keys, 0, 15, 20, 0, 8, 0, 0, 0, 0, 0))
+    skills.turn_head(take, flex=_curve(take, keys, 0, 15, 20, 0, 8, 0, 0, 0, 0, 0))
 
 
 def take_off_glasses(take: Take) -> None:
@@ -622,7 +597,7 @@ def take_off_glasses(take: Take) -> None:
     twiddle = 25.0 * np.sin(2 * np.pi * take.vary(1.5, 0.2) * take.t) * fold
     take["left_elbow.pron"] += twiddle
     take["right_elbow.pron"] -= twiddle
-    _head(take, pitch=_curve(take, keys, 0, 0, 0, 5, 25, 25))
+    skills.turn_head(take, flex=_curve(take, keys, 0, 0, 0, 5, 25, 25))
 
 
 _CAP_GRIP = ((-0.3, 0.2, 0.95), (-1.0, 0.0, 0.0))  # a cap held by its sides before the chest
@@ -648,7 +623,7 @@ def put_on_a_hat(take: Take) -> None:
                                      _spot(take, adjust), _spot(take, adjust), None], hint=(0.9, -0.4, 0.1),
                   hands=[None, _CAP_GRIP, _CAP_GRIP, _hand("above"), _hand("crown"), _hand(adjust), _hand(adjust),
                          None])
-    _head(take, pitch=_curve(take, keys, 0, 10, 10, 0, 8, 5, 5, 0))
+    skills.turn_head(take, flex=_curve(take, keys, 0, 10, 10, 0, 8, 5, 5, 0))
 
 
 def take_off_a_hat(take: Take) -> None:
@@ -667,7 +642,7 @@ def take_off_a_hat(take: Take) -> None:
             _path(take, side, keys, [None, _spot(take, "crown"), _spot(take, "crown"),
                                      _spot(take, "above", (0.0, -0.04, 0.02)), carry, carry], hint=(0.9, -0.4, 0.1),
                   hands=[None, _hand("crown"), _hand("crown"), _hand("above"), _CAP_GRIP, _CAP_GRIP])
-    _head(take, pitch=_curve(take, keys, 0, 8, 8, -5, 10, 5))
+    skills.turn_head(take, flex=_curve(take, keys, 0, 8, 8, -5, 10, 5))
 
 
 # --- A025-A027: pocket, hopping, jump --------------------------------------------------------------------
@@ -698,7 +673,7 @@ def reach_into_pocket(take: Take) -> None:
     skills.bend_trunk(take, sign * 6.0 * inside)
     if back:
         skills.turn_trunk(take, -sign * 15.0 * inside)
-    _head(take, pitch=_curve(take, keys, 0, 15, 15, 20, 25, 10, 0), yaw=sign * 10.0 * inside)
+    skills.turn_head(take, flex=_curve(take, keys, 0, 15, 15, 20, 25, 10, 0), twist=sign * 10.0 * inside)
 
 
 def hopping(take: Take) -> None:
@@ -771,7 +746,7 @@ def playing_with_phone(take: Take) -> None:
             take[f"{side}_wrist.flex"] += 8.0 * tap * up
             take[f"{side}_collar.protr"] += 8.0 * up
         pitch = 38.0
-    _head(take, pitch=take.vary(pitch, 0.15) * up)
+    skills.turn_head(take, flex=take.vary(pitch, 0.15) * up)
     _lean(take, 5.0 * up)
 
 
@@ -792,7 +767,7 @@ def typing_on_a_keyboard(take: Take) -> None:
                       elbow_hint=(0.5, -1.0, -0.3))
         _orient(take, side, (0.0, -0.25, 0.95), (0.0, -1.0, 0.1), up)
         take[f"{side}_wrist.flex"] += 15.0 * tap * up
-    _head(take, pitch=take.vary(8.0, 0.5) * up, yaw=take.wander(4.0, 0.4) * up)
+    skills.turn_head(take, flex=take.vary(8.0, 0.5) * up, twist=take.wander(4.0, 0.4) * up)
     if seated:
         _lean(take, 6.0 * up)
 
@@ -828,7 +803,7 @@ def pointing(take: Take) -> None:
     take[f"{side}_elbow.pron"] = 70.0 * env
     take[f"{side}_wrist.flex"] = -5.0 * env
     yaw = _leftward(side) * 0.6 * (90.0 - plane)
-    _head(take, pitch=(-20.0 if high else 0.0) * env, yaw=yaw * env)
+    skills.turn_head(take, flex=(-20.0 if high else 0.0) * env, twist=yaw * env)
     skills.turn_trunk(take, 0.3 * yaw * env)
 
 
@@ -848,8 +823,8 @@ def taking_a_selfie(take: Take) -> None:
     tap = skills.bumps(take, skills.beats(take, take.vary(1.3, 0.2)), 0.25) * up
     take[f"{side}_wrist.flex"] += 10.0 * tap
     pose = take.wander(6.0, 0.5)
-    _head(take, pitch=-take.vary(15.0, 0.2) * up, yaw=_leftward(side) * take.vary(20.0, 0.25) * up,
-          roll=(_leftward(side) * 8.0 + pose) * up)
+    skills.turn_head(take, flex=-take.vary(15.0, 0.2) * up, twist=_leftward(side) * take.vary(20.0, 0.25) * up,
+          bend=(_leftward(side) * 8.0 + pose) * up)
 
 
 def check_time(take: Take) -> None:
@@ -868,7 +843,7 @@ def check_time(take: Take) -> None:
         _path(take, "right", keys, [None, cuff + _at(take, 0.06, 0.0, 0.0), cuff, _rest(take), None],
               hint=(0.5, -1.0, -0.2))
     look = _curve(take, keys, 0, 0.6, 1, 1, 0)
-    _head(take, pitch=take.vary(30.0, 0.15) * look, yaw=8.0 * look)
+    skills.turn_head(take, flex=take.vary(30.0, 0.15) * look, twist=8.0 * look)
 
 
 def rub_two_hands(take: Take) -> None:
@@ -889,7 +864,7 @@ def rub_two_hands(take: Take) -> None:
         _orient(take, side, (-0.5, 0.2, 0.85) if washing else (-0.3, 0.4, 0.85), (-1.0, 0.0, 0.0), up)
         if washing:
             take[f"{side}_elbow.pron"] += 20.0 * sn * up
-    _head(take, pitch=take.vary(15.0, 0.3) * up)
+    skills.turn_head(take, flex=take.vary(15.0, 0.3) * up)
 
 
 # --- A035-A041: head gestures, face, palms, crossed hands, cough ------------------------------------------
@@ -908,7 +883,7 @@ def nod_head(take: Take) -> None:
         for side in SIDES:
             take[f"{side}_hip.flex"] += 0.5 * bow
             skills.hang_arm(take, side, forward=-0.3 * bow)
-        _head(take, pitch=0.6 * bow)
+        skills.turn_head(take, flex=0.6 * bow)
         return
     bursts = 2 if take.duration > 3.0 and take.rng.uniform() < 0.5 else 1
     rate = take.vary(2.0, 0.15) * take.tempo
@@ -919,7 +894,7 @@ def nod_head(take: Take) -> None:
         t0 = min(t0, max(take.duration - length - 0.1, 0.0))
         env = np.maximum(env, _curve(take, [t0, t0 + 0.5 / rate, t0 + length - 0.5 / rate, t0 + length], 0, 1, 1, 0))
     nods = 0.5 - 0.5 * np.cos(2 * np.pi * rate * take.t)
-    _head(take, pitch=take.amp * take.vary(26.0, 0.2) * nods * env)
+    skills.turn_head(take, flex=take.amp * take.vary(26.0, 0.2) * nods * env)
     take["spine3.flex"] += 3.0 * nods * env  # the upper back joins in a little
 
 
@@ -932,7 +907,7 @@ def shake_head(take: Take) -> None:
     size = take.amp * take.vary(20.0 if fast else 35.0, 0.15)
     env = _held(take, 0.4 / rate, 0.4 / rate, take.vary(0.6, 0.15))
     turn = np.sin(2 * np.pi * rate * take.t) * env
-    _head(take, yaw=size * turn, pitch=3.0 * env)
+    skills.turn_head(take, twist=size * turn, flex=3.0 * env)
     take["neck.bend"] += 0.15 * size * turn  # the head shifts a little toward the side it turns to,
     take["head.bend"] -= 0.15 * size * turn  # staying upright
 
@@ -954,7 +929,7 @@ def wipe_face(take: Take) -> None:
     for side in (("right" if take.rng.uniform() < 0.8 else "left",) if one else SIDES):
         _path(take, side, keys, points + [None], hint=(0.6, -1.0, -0.1), hands=hands + [None])
     on = _curve(take, keys, *([0] + [1] * (2 * strokes + 1) + [0]))
-    _head(take, pitch=_curve(take, keys, *([0] + [10, 20] * strokes + [10, 0])))
+    skills.turn_head(take, flex=_curve(take, keys, *([0] + [10, 20] * strokes + [10, 0])))
     _lean(take, 5.0 * on)
 
 
@@ -972,7 +947,7 @@ def put_palms_together(take: Take) -> None:
         bow = take.vary(20.0, 0.2) * _curve(take, [keys[1], 0.5 * (keys[1] + keys[2]), keys[2]], 0, 1, 0)
         take["pelvis.tilt"] += 0.4 * bow
         _lean(take, 0.6 * bow)
-        _head(take, pitch=0.8 * bow)
+        skills.turn_head(take, flex=0.8 * bow)
 
 
 def cross_hands_in_front(take: Take) -> None:
@@ -989,7 +964,7 @@ def cross_hands_in_front(take: Take) -> None:
         target = _at(take, -0.09, 0.14 if high else -0.03, 0.36 + (0.03 if side == "left" else 0.0))
         skills.toward(take, side, up, target, elbow_hint=(0.7, -1.0, -0.2), bulge=0.1)
         _orient(take, side, (0.2, 0.95, 0.2), (0.0, 0.0, 1.0), up)
-    _head(take, pitch=-3.0 * up)
+    skills.turn_head(take, flex=-3.0 * up)
     _lean(take, -3.0 * up)
 
 
@@ -1016,7 +991,7 @@ def sneeze_cough(take: Take) -> None:
     size = take.vary(22.0 if sneeze else 11.0, 0.2) * take.amp
     breath = _curve(take, keys, 0, 0, 1, 0, 0) if sneeze else 0.0
     _lean(take, size * jerk - 6.0 * breath)
-    _head(take, pitch=0.6 * size * jerk - 10.0 * breath)
+    skills.turn_head(take, flex=0.6 * size * jerk - 10.0 * breath)
     for s in SIDES:
         take[f"{s}_knee.flex"] += 0.3 * size * jerk
         take[f"{s}_hip.flex"] += 0.3 * size * jerk
@@ -1044,7 +1019,7 @@ def staggering(take: Take) -> None:
     for side in SIDES:
         skills.set_arm(take, side, 15.0 + take.wander(12.0 * flail, 0.9),
                        25.0 + take.wander(12.0 * flail, 0.9) - _leftward(side) * sway, elbow=30.0 + take.wander(10.0, 0.8))
-    _head(take, pitch=take.wander(8.0, 0.6), roll=-0.5 * sway, yaw=take.wander(8.0, 0.5))
+    skills.turn_head(take, flex=take.wander(8.0, 0.6), bend=-0.5 * sway, twist=take.wander(8.0, 0.5))
 
 
 def _floor_reach(take: Take, side: str, ahead: float, out: float, above: float = 0.06
@@ -1053,7 +1028,7 @@ def _floor_reach(take: Take, side: str, ahead: float, out: float, above: float =
     ``above`` m over the lowest sole point, ``ahead`` m in front of (negative: behind) the shoulder along the
     pelvis's heading and ``out`` m beyond it sideways (template m); the floor is where the feet stand. Also
     returns the heading and the downward direction in the same frame ``[T, 3]`` (to lay the hand flat)."""
-    rot, pos = _pose(take)
+    rot, pos = skills.posed(take)
     s = take.scale()
     shoulder = pos[:, SMPL24.index(f"{side}_shoulder")]
     feet = np.concatenate([pos[:, [SMPL24.index("left_foot"), SMPL24.index("right_foot")], 1],
@@ -1101,7 +1076,7 @@ def falling(take: Take) -> None:
         take[f"{side}_hip.flex"] += thigh + tilt
         take[f"{side}_knee.flex"] += knee
         take[f"{side}_ankle.dorsi"] += dorsi
-    _head(take, pitch=head)
+    skills.turn_head(take, flex=head)
     if forward:  # thrown forward, planted under the shoulders, then forearms on the floor
         throw, plant = _curve(take, keys, 0, 1, 1, 0, 0, 0), _curve(take, keys, 0, 0, 0, 1, 0, 0)
         flat = _curve(take, keys, 0, 0, 0, 0, 1, 1)
@@ -1138,7 +1113,7 @@ def touch_head(take: Take) -> None:
     else:
         rub = timing.smooth_noise(take.t, take.rng, 0.01, max_hz=1.2, channels=3)
         _to_head(take, _side(take), up, "forehead", hint=(1.0, -0.3, 0.3), shift=rub)
-    _head(take, pitch=(take.vary(15.0, 0.3) + take.wander(5.0, 0.3)) * up, roll=take.wander(6.0, 0.3) * up)
+    skills.turn_head(take, flex=(take.vary(15.0, 0.3) + take.wander(5.0, 0.3)) * up, bend=take.wander(6.0, 0.3) * up)
     _lean(take, 6.0 * up)
 
 
@@ -1164,7 +1139,7 @@ def touch_chest(take: Take) -> None:
         for s in SIDES:
             take[f"{s}_collar.elev"] += 4.0 * breath * up
     _lean(take, hunch * up)
-    _head(take, pitch=12.0 * up)
+    skills.turn_head(take, flex=12.0 * up)
 
 
 def touch_back(take: Take) -> None:
@@ -1181,7 +1156,7 @@ def touch_back(take: Take) -> None:
         _orient(take, side, (-0.9, 0.2, 0.0), (0.0, 0.0, 1.0), up)
     _lean(take, -take.vary(10.0, 0.3) * up)
     skills.bend_trunk(take, (take.wander(5.0, 0.3) + (0.0 if len(hands) == 2 else -_leftward(hands[0]) * 5.0)) * up)
-    _head(take, pitch=-5.0 * up)
+    skills.turn_head(take, flex=-5.0 * up)
 
 
 def touch_neck(take: Take) -> None:
@@ -1195,7 +1170,7 @@ def touch_neck(take: Take) -> None:
     _to_head(take, side, up, "nape", hint=(0.8, 0.2, 0.6),
              shift=np.stack([squeeze, np.zeros_like(squeeze), np.zeros_like(squeeze)], -1))
     roll = take.vary(12.0, 0.3) * np.sin(2 * np.pi * take.uniform(0.25, 0.45) * take.t + take.uniform(0, 6.3))
-    _head(take, pitch=(10.0 + 0.5 * np.abs(roll)) * up, roll=-_leftward(side) * np.abs(roll) * up)
+    skills.turn_head(take, flex=(10.0 + 0.5 * np.abs(roll)) * up, bend=-_leftward(side) * np.abs(roll) * up)
 
 
 def nausea(take: Take) -> None:
@@ -1214,7 +1189,7 @@ def nausea(take: Take) -> None:
     on_knees = take.mode == "hands on knees"
     skills.crouch(take, (take.vary(25.0, 0.3) + (10.0 if on_knees else 0.0)) * down,
                   take.vary(45.0, 0.15) * down + 8.0 * retch)
-    _head(take, pitch=(25.0 + 10.0 * retch) * down)
+    skills.turn_head(take, flex=(25.0 + 10.0 * retch) * down)
     for side in SIDES:
         take[f"{side}_collar.elev"] += 8.0 * retch
     if on_knees:
@@ -1244,7 +1219,7 @@ def use_a_fan(take: Take) -> None:
     fingers = np.stack([np.zeros_like(angle), np.cos(angle), np.sin(angle)], -1)
     palm = np.stack([np.full_like(angle, -0.3), np.sin(angle), -np.cos(angle)], -1)
     _orient(take, side, fingers, palm, up)
-    _head(take, pitch=-6.0 * up, yaw=_leftward(side) * 8.0 * up)
+    skills.turn_head(take, flex=-6.0 * up, twist=_leftward(side) * 8.0 * up)
 
 
 # --- the 49 classes, NTU id order -------------------------------------------------------------------------

@@ -111,14 +111,6 @@ def _orient(take: Take, side: str, weight, pron: float, flex: float = 0.0, dev: 
     take[f"{side}_wrist.dev"] += w * dev
 
 
-def _look(take: Take, flex=0.0, twist=0.0, bend=0.0) -> None:
-    """Head and neck together (60/40): ``flex`` + looks down, ``twist`` + to the left, ``bend`` + to the left."""
-    for joint, share in (("neck", 0.6), ("head", 0.4)):
-        take[f"{joint}.flex"] += share * np.asarray(flex, float)
-        take[f"{joint}.twist"] += share * np.asarray(twist, float)
-        take[f"{joint}.bend"] += share * np.asarray(bend, float)
-
-
 def _lean(take: Take, degrees) -> None:
     """Lean the trunk forward over the hips, as over a table (feet and knees left as they are)."""
     d = np.asarray(degrees, float)
@@ -215,7 +207,7 @@ def put_on_headphone(take: Take) -> None:
         path[:, 1] += settle * 0.012 * take.scale() * np.sin(2 * np.pi * 3.0 * take.t)  # pressing the cups on
         skills.reach(take, side, path, elbow_hint=_FACE["ear"].hint)
         _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 0), -30.0, -10.0)
-    _look(take, _curve(take, k, 0, 18, 18, 8, 0, -3, 0))  # eyes on the headphones, then straight ahead
+    skills.turn_head(take, _curve(take, k, 0, 18, 18, 8, 0, -3, 0))  # eyes on the headphones, then straight ahead
 
 
 def take_off_headphone(take: Take) -> None:
@@ -232,7 +224,7 @@ def take_off_headphone(take: Take) -> None:
         skills.reach(take, side, _path(take, k, [None, ear, ear, over, front, front, end]),
                      elbow_hint=_FACE["ear"].hint)
         _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 1 if side == carrier else 0), -30.0, -10.0)
-    _look(take, _curve(take, k, 0, 0, 0, 12, 22, 22, 12))
+    skills.turn_head(take, _curve(take, k, 0, 0, 0, 12, 22, 22, 12))
 
 
 def shoot_at_the_basket(take: Take) -> None:
@@ -262,7 +254,7 @@ def shoot_at_the_basket(take: Take) -> None:
                       release - take.scale() * np.array([0.0, 0.1, 0.05]), None, None]
         skills.reach(take, side, _path(take, k, points), elbow_hint=(0.6, -1.0, -0.1))
         _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 0), -20.0)
-    _look(take, _curve(take, k, 0, 5, -12, -15, -18, -15, 0))
+    skills.turn_head(take, _curve(take, k, 0, 5, -12, -15, -18, -15, 0))
 
 
 def bounce_ball(take: Take) -> None:
@@ -290,7 +282,7 @@ def bounce_ball(take: Take) -> None:
         _orient(take, side, env, 75.0, -15.0 + 35.0 * down)
         skills.hang_arm(take, other(side), forward=15.0 * env)
         take[f"{other(side)}_elbow.flex"] += 30.0 * env
-    _look(take, 18.0 * env)
+    skills.turn_head(take, 18.0 * env)
 
 
 # Tennis strokes: right-hand wrist keyframes (thorax frame), trunk turn (+ = to the left) at the same keys:
@@ -333,7 +325,7 @@ def tennis_bat_swing(take: Take) -> None:
         skills.reach(take, arm, _path(take, k, [_at(take, *p) for p in racket]), elbow_hint=(1.0, -0.2, -0.3))
         skills.reach(take, other(arm), _path(take, k, [None if p is None else _at(take, *p) for p in toss]),
                      elbow_hint=(0.5, -1.0, 0.0))
-        _look(take, _curve(take, k, 0, -10, -30, -25, -15, 10, 0))
+        skills.turn_head(take, _curve(take, k, 0, -10, -30, -25, -15, 10, 0))
     else:  # shadow strokes, one after another, for as long as the clip lasts (1-2)
         racket, turn = _STROKES[take.mode]
         if take.mode == "forehand":  # the free hand points ahead at the ball, then comes across
@@ -348,7 +340,7 @@ def tennis_bat_swing(take: Take) -> None:
         skills.turn_trunk(take, sign * take.amp * _curve(take, k, *(list(turn[:-1]) * strokes + [0])))
         skills.reach(take, arm, _path(take, k, racket_pts), elbow_hint=(0.6, -1.0, -0.3))
         skills.reach(take, other(arm), _path(take, k, free_pts), elbow_hint=(0.6, -1.0, -0.2))
-        _look(take, 5.0, sign * _curve(take, k, *([0, 30, 30, 0, -10] * strokes + [0])))  # eyes on the ball
+        skills.turn_head(take, 5.0, sign * _curve(take, k, *([0, 30, 30, 0, -10] * strokes + [0])))  # eyes on the ball
     _orient(take, arm, 1.0, 20.0, -10.0)
 
 
@@ -375,7 +367,7 @@ def juggling_table_tennis_balls(take: Take) -> None:
         skills.toward(take, side, env, target, elbow_hint=(0.6, -1.0, -0.3))
         _orient(take, side, env, -45.0, 18.0 * np.maximum(np.sin(c), 0.0) - 5.0)
         take["neck.twist"] += env * (2.5 if side == "left" else -2.5) * np.cos(c)  # eyes follow the balls
-    _look(take, -14.0 * env)
+    skills.turn_head(take, -14.0 * env)
 
 
 def hush(take: Take) -> None:
@@ -391,7 +383,7 @@ def hush(take: Take) -> None:
     env = _curve(take, k, 0, 1, 1, 0)
     skills.toward(take, side, env, _face(take, "lips"), elbow_hint=spot.hint, bulge=0.06)
     _orient(take, side, env, spot.pron, spot.flex)
-    _look(take, 4.0 * env)
+    skills.turn_head(take, 4.0 * env)
 
 
 def flick_hair(take: Take) -> None:
@@ -410,7 +402,7 @@ def flick_hair(take: Take) -> None:
     touch = _curve(take, k, *([0, 1, 1, 1, 1] + [0]) * flicks)
     _orient(take, side, touch, 30.0, -10.0)
     toss = _curve(take, k, *([0, 0, 0, 1, 0.4] + [0]) * flicks)
-    _look(take, -14.0 * toss, sign * 10.0 * toss, -sign * 8.0 * toss)
+    skills.turn_head(take, -14.0 * toss, sign * 10.0 * toss, -sign * 8.0 * toss)
 
 
 # --- A069-A072: hand signs ----------------------------------------------------------------------------------
@@ -448,7 +440,7 @@ def thumb_up(take: Take) -> None:
     for side in (SIDES if take.mode.startswith("both") else (_side(take),)):
         take[f"{side}_shoulder.elev"] += 8.0 * push
         take[f"{side}_elbow.flex"] -= 12.0 * push
-    _look(take, 5.0 * env)
+    skills.turn_head(take, 5.0 * env)
 
 
 def thumb_down(take: Take) -> None:
@@ -458,7 +450,7 @@ def thumb_down(take: Take) -> None:
     jabs = skills.bumps(take, [k[1] + 0.05, k[1] + 0.45], 0.3) * (take.t < k[2])
     for side in sides:
         take[f"{side}_shoulder.elev"] -= 7.0 * jabs
-    _look(take, 6.0 * env)
+    skills.turn_head(take, 6.0 * env)
 
 
 def make_ok_sign(take: Take) -> None:
@@ -475,7 +467,7 @@ def make_victory_sign(take: Take) -> None:
     for s in sides:
         take[f"{s}_wrist.dev"] += 8.0 * waggle * env
     tilt = 0.0 if len(sides) == 2 else (7.0 if side == "left" else -7.0)
-    _look(take, -3.0 * env, 0.0, tilt * env)
+    skills.turn_head(take, -3.0 * env, 0.0, tilt * env)
 
 
 # --- A073-A086: hands at work in front of the body -------------------------------------------------------
@@ -507,7 +499,7 @@ def staple_book(take: Take) -> None:
     _orient(take, other(side), env, 75.0, -20.0)
     _orient(take, side, env, 80.0, -35.0)
     take["spine2.flex"] += 4.0 * presses
-    _look(take, 20.0 * env + 3.0 * presses)
+    skills.turn_head(take, 20.0 * env + 3.0 * presses)
 
 
 def counting_money(take: Take) -> None:
@@ -533,7 +525,7 @@ def counting_money(take: Take) -> None:
     skills.toward(take, side, env, counting, elbow_hint=(0.5, -1.0, -0.2))
     _orient(take, other(side), env, -55.0, 10.0)
     _orient(take, side, env, 25.0 + 10.0 * slide, 5.0 * slide, -10.0 + 20.0 * slide)
-    _look(take, 24.0 * env)
+    skills.turn_head(take, 24.0 * env)
 
 
 def cutting_nails(take: Take) -> None:
@@ -559,7 +551,7 @@ def cutting_nails(take: Take) -> None:
     skills.toward(take, side, env, clipper, elbow_hint=(0.6, -1.0, -0.3))
     _orient(take, other(side), env, -30.0 + 8.0 * finger, 5.0)
     _orient(take, side, env, 40.0, 15.0 * squeeze)
-    _look(take, 28.0 * env)
+    skills.turn_head(take, 28.0 * env)
 
 
 def cutting_paper(take: Take) -> None:
@@ -582,7 +574,7 @@ def cutting_paper(take: Take) -> None:
     skills.toward(take, other(side), env, paper, elbow_hint=(0.6, -1.0, -0.3))
     _orient(take, side, env, 5.0 + 6.0 * snip, 8.0 * snip)
     _orient(take, other(side), env, -20.0 + take.wander(25.0, 0.4))
-    _look(take, 16.0 * env)
+    skills.turn_head(take, 16.0 * env)
 
 
 def snapping_fingers(take: Take) -> None:
@@ -608,7 +600,7 @@ def snapping_fingers(take: Take) -> None:
         skills.toward(take, side, env, target, elbow_hint=(1.0, -0.5, -0.3))
         _orient(take, side, env, 10.0 + 15.0 * flick, 25.0 * flick)
         beat = np.maximum(beat, np.maximum(flick, 0.0))
-    _look(take, 4.0 * beat - 3.0 * env)
+    skills.turn_head(take, 4.0 * beat - 3.0 * env)
 
 
 def open_bottle(take: Take) -> None:
@@ -630,7 +622,7 @@ def open_bottle(take: Take) -> None:
     skills.toward(take, side, env, cap, elbow_hint=(0.8, -0.6, -0.2))
     _orient(take, other(side), env, 0.0 - 8.0 * twist)
     _orient(take, side, env, 40.0 + take.amp * 35.0 * twist, -10.0)
-    _look(take, 15.0 * env)
+    skills.turn_head(take, 15.0 * env)
 
 
 def sniff(take: Take) -> None:
@@ -649,7 +641,7 @@ def sniff(take: Take) -> None:
         _orient(take, side, env, spot.pron, spot.flex)
     sniffs = skills.bumps(take, k[2] + np.array([0.1, 0.45, 0.8])[: 2 + int(take.rng.uniform() < 0.5)], 0.25)
     sniffs = sniffs * (take.t < k[3])
-    _look(take, 14.0 * dip - 3.0 * sniffs)
+    skills.turn_head(take, 14.0 * dip - 3.0 * sniffs)
     take["spine3.flex"] -= 4.0 * dip + 2.0 * sniffs
     for side in SIDES:
         take[f"{side}_collar.elev"] += 4.0 * dip + 3.0 * sniffs
@@ -679,7 +671,7 @@ def toss_a_coin(take: Take) -> None:
                      elbow_hint=(0.5, -1.0, -0.2))
         take[f"{side}_elbow.pron"] = _curve(take, k, 10, 0, 0, -20, -60, -40, -70, 10)
     take[f"{side}_wrist.flex"] = _curve(take, k, 0, 0, -25, 15, 0, 10, 0, 0)
-    _look(take, _curve(take, k, 0, 10, 10, -25, -5, 25, 25, 0))
+    skills.turn_head(take, _curve(take, k, 0, 10, 10, -25, -5, 25, 25, 0))
 
 
 def fold_paper(take: Take) -> None:
@@ -718,7 +710,7 @@ def fold_paper(take: Take) -> None:
     skills.reach(take, side, _path(take, k, folder_pts), elbow_hint=(0.7, -0.8, -0.3))
     _orient(take, other(side), on, 60.0 if table else -20.0, -10.0 if table else 0.0)
     _orient(take, side, on, -40.0 + 120.0 * _curve(take, k, *turn), -20.0 * _curve(take, k, *crease))
-    _look(take, 22.0 * on)
+    skills.turn_head(take, 22.0 * on)
 
 
 def ball_up_paper(take: Take) -> None:
@@ -738,7 +730,7 @@ def ball_up_paper(take: Take) -> None:
         skills.toward(take, side, env, target, elbow_hint=(1.0, -0.3, -0.2))
         knead = np.sin(2 * np.pi * (phase + 0.5 * n))
         _orient(take, side, env, -10.0 + 25.0 * knead, 15.0 * squeeze)
-    _look(take, 15.0 * env)
+    skills.turn_head(take, 15.0 * env)
 
 
 def play_magic_cube(take: Take) -> None:
@@ -763,7 +755,7 @@ def play_magic_cube(take: Take) -> None:
         target = _at(take, 0.07, -0.04, 0.25) + take.scale() * regrip[:, None] * np.array([0.0, 0.05, 0.02])
         skills.toward(take, side, env, target, elbow_hint=(0.7, -1.0, -0.2))
         _orient(take, side, env, 10.0 + take.amp * 55.0 * turns[side] + 30.0 * regrip, 25.0 * regrip)
-    _look(take, 22.0 * env)
+    skills.turn_head(take, 22.0 * env)
 
 
 def apply_cream_on_face(take: Take) -> None:
@@ -794,7 +786,7 @@ def apply_cream_on_face(take: Take) -> None:
         for side in SIDES:
             skills.toward(take, side, env, spot + circle, elbow_hint=_FACE["cheek"].hint, bulge=0.05)
             _orient(take, side, env, _FACE["cheek"].pron, _FACE["cheek"].flex)
-    _look(take, -4.0 * env + 3.0 * np.sin(c) * env)
+    skills.turn_head(take, -4.0 * env + 3.0 * np.sin(c) * env)
 
 
 def apply_cream_on_hand_back(take: Take) -> None:
@@ -816,7 +808,7 @@ def apply_cream_on_hand_back(take: Take) -> None:
     _orient(take, other(side), env, 80.0, 5.0)
     skills.toward(take, side, env, _at(take, -0.05, -0.15, 0.31) + stroke, elbow_hint=(0.7, -0.8, -0.2))
     _orient(take, side, env, 80.0, 10.0)
-    _look(take, 20.0 * env)
+    skills.turn_head(take, 20.0 * env)
 
 
 # --- A087-A092: bags, boxes and loads ----------------------------------------------------------------------
@@ -892,7 +884,7 @@ def take_off_bag(take: Take) -> None:
     skills.turn_trunk(take, -sign * 15.0 * _curve(take, k, *([0] * n_pre + [0, 1, 0.3, 0, 0, 0])))
     loaded = _curve(take, k, *([1] * n_pre + [1, 0.5, 0, 0, 0, 0]))
     take["spine2.flex"] += 4.0 * loaded
-    _look(take, 20.0 * bend)
+    skills.turn_head(take, 20.0 * bend)
 
 
 def _bag_hand(take: Take, side: str, height: float) -> None:
@@ -919,7 +911,7 @@ def put_something_into_a_bag(take: Take) -> None:
     points = [None] + [fetch, fetch, over, inside, inside, out] * times + [None]
     skills.reach(take, side, _path(take, k, points), elbow_hint=(0.6, -1.0, -0.3))
     _orient(take, side, _curve(take, k, *([0] + [1] * (6 * times) + [0])), 30.0)
-    _look(take, _curve(take, k, *([10] + [15, 10, 22, 25, 25, 20] * times + [10])))
+    skills.turn_head(take, _curve(take, k, *([10] + [15, 10, 22, 25, 25, 20] * times + [10])))
 
 
 def take_something_out_of_a_bag(take: Take) -> None:
@@ -936,7 +928,7 @@ def take_something_out_of_a_bag(take: Take) -> None:
     path += rummage[:, None] * timing.smooth_noise(take.t, take.rng, 0.018, max_hz=3.0, channels=3)
     skills.reach(take, side, path, elbow_hint=(0.6, -1.0, -0.3))
     _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 0), -40.0 + 30.0 * _curve(take, k, 0, 1, 1, 0, 0, 0))
-    _look(take, _curve(take, k, 15, 25, 25, 12, 10, 5))
+    skills.turn_head(take, _curve(take, k, 15, 25, 25, 12, 10, 5))
 
 
 def open_a_box(take: Take) -> None:
@@ -959,7 +951,7 @@ def open_a_box(take: Take) -> None:
                          elbow_hint=(0.8, -1.0, -0.3))
             _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 0), 10.0)
         skills.turn_trunk(take, -10.0 * _curve(take, k, 0, 0, 0, 0, 1, 1, 0))
-        _look(take, _curve(take, k, 10, 22, 22, 15, 15, 30, 10))
+        skills.turn_head(take, _curve(take, k, 10, 22, 22, 15, 15, 30, 10))
     else:
         k = _keys(take, 0.55, 0.4, 0.4, 0.4, 0.4, 0.35, 0.35, 0.55)
         centre, out = _at(take, 0.04, y, 0.36), _at(take, 0.24, y + 0.08, 0.34)
@@ -971,7 +963,7 @@ def open_a_box(take: Take) -> None:
                          elbow_hint=(0.6, -1.0, -0.3))
             flap = _curve(take, k, *((0, 0, 1, 0, 0, 0, 0, 0, 0) if side == first else (0, 0, 0, 1, 0, 0, 0, 0, 0)))
             _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 1, 1, 0), 70.0 - 80.0 * flap)
-        _look(take, _curve(take, k, 10, 25, 25, 25, 25, 25, 25, 30, 10))
+        skills.turn_head(take, _curve(take, k, 10, 25, 25, 25, 25, 25, 25, 30, 10))
 
 
 def move_heavy_objects(take: Take) -> None:
@@ -991,7 +983,7 @@ def move_heavy_objects(take: Take) -> None:
         _hands_together(take, SIDES, on, _at(take, 0.16, -0.0, 0.45), hint=(0.6, -1.0, -0.3))
         for side in SIDES:
             _orient(take, side, on, 60.0, -40.0)
-        _look(take, -10.0 * on)
+        skills.turn_head(take, -10.0 * on)
         return
     carry = take.mode == "lift and carry"
     if carry:
@@ -1018,7 +1010,7 @@ def move_heavy_objects(take: Take) -> None:
         _orient(take, side, reach_env, 0.0, 10.0)
     if not carry:
         skills.turn_trunk(take, take.choice((-1.0, 1.0)) * 25.0 * _curve(take, k, 0, 0, 0, 0, 0, 1, 1, 0, 0))
-    _look(take, 20.0 * fold)
+    skills.turn_head(take, 20.0 * fold)
 
 
 # --- A094-A105: whole-arm and whole-body ------------------------------------------------------------------
@@ -1045,7 +1037,7 @@ def throw_up_cap(take: Take) -> None:
         _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 1, 1, 0), -40.0,
                 0.0)
         take[f"{side}_wrist.flex"] += _curve(take, k, 0, 0, -20, 30, 0, 0, 0, 0)
-    _look(take, _curve(take, k, 0, 10, 5, -30, -35, -5, 5, 0))
+    skills.turn_head(take, _curve(take, k, 0, 10, 5, -30, -35, -5, 5, 0))
 
 
 def hands_up(take: Take) -> None:
@@ -1129,7 +1121,7 @@ def yawn(take: Take) -> None:
     _begin(take)
     k = _keys(take, 0.7, take.uniform(0.9, 1.4), 0.7)
     env = _curve(take, k, 0, 1, 1, 0)
-    _look(take, -take.vary(26.0, 0.15) * env)
+    skills.turn_head(take, -take.vary(26.0, 0.15) * env)
     take["spine3.flex"] -= 5.0 * env
     take["spine2.flex"] -= 4.0 * env
     for side in SIDES:
@@ -1168,7 +1160,7 @@ def stretch_oneself(take: Take) -> None:
             take[f"{side}_collar.protr"] -= 15.0 * hold
         take["spine3.flex"] -= 8.0 * hold
         take["spine2.flex"] -= 6.0 * hold
-        _look(take, -15.0 * hold)
+        skills.turn_head(take, -15.0 * hold)
         return
     # Up in front to overhead with the arms a little across (hands together), down out to the sides.
     sweep = timing.minimum_jerk((take.t - k[2]) / max(k[3] - k[2], 1e-3))
@@ -1189,7 +1181,7 @@ def stretch_oneself(take: Take) -> None:
             take[f"{side}_ankle.dorsi"] -= 20.0 * hold  # up on the toes
     take["spine3.flex"] -= 6.0 * hold
     take["spine2.flex"] -= 6.0 * hold
-    _look(take, -12.0 * hold)
+    skills.turn_head(take, -12.0 * hold)
 
 
 def blow_nose(take: Take) -> None:
@@ -1211,7 +1203,7 @@ def blow_nose(take: Take) -> None:
     for side in SIDES:
         skills.reach(take, side, path, elbow_hint=spot.hint)
         _orient(take, side, _curve(take, k, 0, 1, 1, 1, 1, 0), spot.pron, spot.flex)
-    _look(take, 6.0 * at_nose + 6.0 * blows)
+    skills.turn_head(take, 6.0 * at_nose + 6.0 * blows)
     take["spine2.flex"] += 4.0 * blows
 
 

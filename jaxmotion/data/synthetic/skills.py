@@ -12,8 +12,9 @@ import dataclasses
 
 import numpy as np
 
-from jaxmotion.data.synthetic import timing
+from jaxmotion.data.synthetic import anatomy, timing
 from jaxmotion.data.synthetic.take import SIDES, Take, other
+from jaxmotion.geometry.skeletons import SMPL24
 
 # --- arms ----------------------------------------------------------------------------------------------
 
@@ -596,6 +597,31 @@ def trunk_pitch(take: Take) -> np.ndarray:
 def hang_arm(take: Take, side: str, forward=0.0) -> None:
     """``side``'s arm hanging plumb whatever the trunk's lean (plus ``forward`` degrees of flexion)."""
     set_arm(take, side, trunk_pitch(take) + forward, 6.0, elbow=take.subject.arm_carry)
+
+
+def turn_head(take: Take, flex=0.0, twist=0.0, bend=0.0) -> None:
+    """Turn the head (degrees, ``[T]`` or scalars): ``flex`` + looks down, ``twist`` + to the subject's left,
+    ``bend`` + toward the left shoulder; the neck takes 0.6 and the head joint 0.4 (MOTION_FACTS 2: cervical
+    flexion 50-64, rotation 80, about half of it at C1-C2)."""
+    for joint, share in (("neck", 0.6), ("head", 0.4)):
+        take[f"{joint}.flex"] += share * np.asarray(flex, float)
+        take[f"{joint}.twist"] += share * np.asarray(twist, float)
+        take[f"{joint}.bend"] += share * np.asarray(bend, float)
+
+
+def posed(take: Take) -> tuple[np.ndarray, np.ndarray]:
+    """Forward kinematics of the pose built so far (within the joint limits), root at the origin: ``(global
+    rotations [T, J, 3, 3], positions [T, J, 3])``, for hand targets on the body itself or on the floor."""
+    local = anatomy.angles_to_rotmats(anatomy.clip_to_limits(take.angles))
+    offsets = take.subject.offsets.astype(float)
+    rot = np.zeros_like(local)
+    pos = np.zeros(local.shape[:-1])
+    rot[:, 0] = local[:, 0]
+    for j in range(1, len(SMPL24.parents)):  # SMPL-24 parents precede their children
+        p = SMPL24.parents[j]
+        rot[:, j] = rot[:, p] @ local[:, j]
+        pos[:, j] = pos[:, p] + rot[:, p] @ offsets[j]
+    return rot, pos
 
 
 def turn_trunk(take: Take, angle) -> None:
