@@ -1,6 +1,7 @@
 """synth-ntu1p and synth-ntu1p-smpl, NTU-120's 94 one-person classes: the registered variants (names, order,
-skeleton, capture, cross-subject split, the SMPL stand-in performing the same takes), every class and mode within
-the joint limits and on the floor, and every class apart from every other."""
+skeleton, capture, cross-subject split, the SMPL stand-in performing the same takes, determinism through the
+capture model), every class and mode within the joint limits and on the floor, and every class apart from every
+other."""
 
 import numpy as np
 
@@ -98,3 +99,10 @@ def test_held_out_takes_are_nearest_their_own_class():
     per_class = np.array([np.mean(predicted[y == c] == c) for c in range(len(CLASSES))])
     assert np.mean(predicted == y) > 0.9
     assert per_class.min() >= 0.5, [CLASSES[c].name for c in np.flatnonzero(per_class < 0.5)]
+
+
+def test_same_seed_same_bytes_through_the_kinect_capture():
+    a, b = (synthetic.generate("synth-ntu1p", "train", count=12) for _ in range(2))
+    np.testing.assert_array_equal(a.joints, b.joints)
+    other = synthetic.generate("synth-ntu1p", "train", seed=1, count=12)
+    assert not np.allclose(other.joints[:50], a.joints[:50])
