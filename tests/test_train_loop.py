@@ -229,3 +229,18 @@ def test_multi_state_updates_one_named_set_at_a_time():
         state.apply("encoder", grads)
     with pytest.raises(ValueError, match="one optimiser per parameter set"):
         MultiState.create({"generator": {}}, {"critic": optax.sgd(0.1)})
+
+
+def test_multi_state_buffers_are_kept_replaced_by_name_and_checkpointed(tmp_path):
+    state = MultiState.create({"generator": {"w": jnp.ones(2)}}, {"generator": optax.sgd(0.5)},
+                              buffers={"generator": {"u": jnp.zeros(2)}})
+    moved = state.with_buffer("generator", {"u": jnp.full(2, 3.0)}).apply("generator", {"w": jnp.ones(2)})
+    np.testing.assert_array_equal(np.asarray(moved.buffers["generator"]["u"]), np.full(2, 3.0))
+    assert jax.tree.structure(jax.jit(lambda s: s)(moved)) == jax.tree.structure(moved)
+    with pytest.raises(KeyError, match="no buffer 'critic'"):
+        state.with_buffer("critic", {})
+    with Checkpointer(tmp_path / "ckpt") as ckpt:
+        ckpt.save(1, moved)
+        restored = ckpt.restore(state)
+    np.testing.assert_array_equal(np.asarray(restored.buffers["generator"]["u"]), np.full(2, 3.0))
+    assert MultiState.create({"g": {}}, {"g": optax.sgd(0.1)}).buffers == {}

@@ -1,8 +1,9 @@
 """A training state with several named parameter sets, each with its own optimiser (GAN: generator +
 critic).
 
-:class:`MultiState` is a pytree like ``flax.training.train_state.TrainState``: ``step``, ``params`` and
-``opt_states`` are its leaves (checkpointed, replicated on a data mesh), the optimisers are static. The
+:class:`MultiState` is a pytree like ``flax.training.train_state.TrainState``: ``step``, ``params``,
+``opt_states`` and ``buffers`` (untrained state: spectral-norm vectors) are its leaves (checkpointed, replicated
+on a data mesh), the optimisers are static. The
 loop needs only its ``step``; one loop step is whatever the step function makes of it, e.g. ActFormer's
 ``n_critic`` critic updates, each on its own batch, then one generator update::
 
@@ -38,10 +39,14 @@ class MultiState(struct.PyTreeNode):
     params: dict[str, Any]
     opt_states: dict[str, Any]
     optimizers: tuple[tuple[str, optax.GradientTransformation], ...] = struct.field(pytree_node=False)
+    buffers: dict[str, Any] = struct.field(default_factory=dict)
 
     @classmethod
-    def create(cls, params: Mapping[str, Any], optimizers: Mapping[str, optax.GradientTransformation]) -> MultiState:
-        """Step 0 and a fresh optimiser state per set; ``params`` and ``optimizers`` name the same sets."""
+    def create(cls, params: Mapping[str, Any], optimizers: Mapping[str, optax.GradientTransformation],
+               buffers: Mapping[str, Any] | None = None) -> MultiState:
+        """Step 0 and a fresh optimiser state per set; ``params`` and ``optimizers`` name the same sets.
+        ``buffers``: state that is kept and checkpointed but not trained (spectral-norm power-iteration
+        vectors, running statistics), by name."""
         if set(params) != set(optimizers) or not params:
             raise ValueError(f"MultiState.create: params name the sets {sorted(params)} but optimizers name "
                              f"{sorted(optimizers)}; give one optimiser per parameter set")
@@ -51,6 +56,7 @@ class MultiState(struct.PyTreeNode):
             params={name: params[name] for name in names},
             opt_states={name: optimizers[name].init(params[name]) for name in names},
             optimizers=tuple((name, optimizers[name]) for name in names),
+            buffers=dict(buffers or {}),
         )
 
     @property
@@ -70,6 +76,12 @@ class MultiState(struct.PyTreeNode):
         updates, opt_state = tx.update(grads, self.opt_states[name], self.params[name])
         return self.replace(params={**self.params, name: optax.apply_updates(self.params[name], updates)},
                             opt_states={**self.opt_states, name: opt_state})
+
+    def with_buffer(self, name: str, value: Any) -> MultiState:
+        """The same state with buffer ``name`` replaced (e.g. the moved power-iteration vectors)."""
+        if name not in self.buffers:
+            raise KeyError(f"MultiState: no buffer {name!r}; the buffers are {sorted(self.buffers)}")
+        return self.replace(buffers={**self.buffers, name: value})
 
     def next_step(self) -> MultiState:
         """The same state one loop step later (call once at the end of a step function)."""
