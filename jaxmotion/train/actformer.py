@@ -1,0 +1,202 @@
+"""Training ActFormer (:mod:`jaxmotion.models.actformer`, :mod:`jaxmotion.models.actformer_critic`) as the
+authors' ``processor/generator.py`` does (FACTS 5).
+
+:class:`ActFormerTraining` is the recipe: per loop step ``n_critic`` (4) critic updates, each on a new real
+batch and fresh fakes (labels drawn uniformly), then one generator update; the code's hinge loss (critic
+``relu(1 - D(real)) + relu(1 + D(fake))``, generator ``-D(fake)``) or the paper's conditional WGAN (``loss="wgan"``:
+critic ``D(fake) - D(real)``); Adam 2e-4 with betas (0, 0.999) for both. Every forward pass in training moves its
+spectral-norm power iterations, as PyTorch's hooks do: the critic's twice per critic update (real, then fake)
+and once in the generator update, the generator's once per fake batch; the vectors live in the state's
+``buffers``. Latent sequences come from the GP prior (``prior="gaussian"``: white, the ablation), one per clip
+shared by its persons (``shared_z=False``: one per person).
+
+Data: windows of ``frames`` frames with ActFormer's snake padding, in the dataset's own frame (no canonical
+turn: ActFormer's data stay in the camera's), turned into the generator's representation: ``skeleton``
+(:func:`~jaxmotion.geometry.representations.skeleton_features`: root minus the clip's mean root, unit limb
+vectors) or ``smpl`` (rot6d of 24 joints + the translation de-meaned over the window as a 25th joint). The
+code's persons stay in their stored order (the datasets hold swapped copies); ``permute_persons`` shuffles them
+per window, the paper's choice. ``sampling="sqrt"``: BABEL's square-root class resampling.
+
+Axes: N critic steps, B batch, P persons, T frames, V joints, C channels.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any, Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optax
+
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.pipeline import BatchSpec, Sampling
+from jaxmotion.geometry.representations import rotation_features, skeleton_features
+from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
+from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
+from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
+from jaxmotion.train.fit import fit
+from jaxmotion.train.loop import LoopConfig
+from jaxmotion.train.state import MultiState
+
+
+@dataclasses.dataclass(frozen=True)
+class ActFormerTraining:
+    """Everything that determines an ActFormer training run (defaults: the authors' configs)."""
+
+    generator: GeneratorConfig
+    loop: LoopConfig
+    critic_base_channels: int = 32
+    loss: Literal["hinge", "wgan"] = "hinge"
+    n_critic: int = 4
+    learning_rate: float = 2e-4
+    betas: tuple[float, float] = (0.0, 0.999)
+    batch_size: int = 64
+    prior: Literal["gp", "gaussian"] = "gp"
+    length_scale: float = 100.0
+    shared_z: bool = True
+    permute_persons: bool = False
+    sampling: Sampling = "epoch"
+
+    def __post_init__(self):
+        if self.n_critic < 1 or self.batch_size < 1:
+            raise ValueError(f"ActFormerTraining: n_critic and batch_size must be >= 1, got {self.n_critic}, "
+                             f"{self.batch_size}")
+        if self.loss not in ("hinge", "wgan") or self.prior not in ("gp", "gaussian"):
+            raise ValueError(f"ActFormerTraining: loss {self.loss!r} / prior {self.prior!r} unknown")
+        if self.permute_persons and self.generator.persons < 2:
+            raise ValueError("ActFormerTraining.permute_persons: needs a generator of several persons")
+
+    @property
+    def critic(self) -> CriticConfig:
+        g = self.generator
+        return CriticConfig(num_classes=g.num_classes, joints=g.joints, channels=g.persons * g.channels,
+                            base_channels=self.critic_base_channels, spectral_norm=g.spectral_norm)
+
+    @property
+    def batch(self) -> BatchSpec:
+        """All ``n_critic`` real batches of a step drawn at once (split by :func:`real_batches`)."""
+        return BatchSpec(batch_size=self.n_critic * self.batch_size, window=self.generator.frames, padding="snake",
+                         canonical=False, sampling=self.sampling, permute_persons=self.permute_persons)
+
+
+def latent_factors(training: ActFormerTraining) -> jax.Array:
+    g = training.generator
+    if training.prior == "gaussian":
+        return jnp.asarray(white_factors(g.frames, g.latent))
+    return jnp.asarray(gp_factors(g.frames, length_scales(g.latent, training.length_scale)))
+
+
+def sample_latents(training: ActFormerTraining, factors: jax.Array, key: jax.Array, batch: int) -> jax.Array:
+    """``[B, T, Z]`` (shared by the persons) or ``[B, P, T, Z]`` (``shared_z=False``)."""
+    g = training.generator
+    if training.shared_z or g.persons == 1:
+        return sample_gp(key, factors, batch)
+    return sample_gp(key, factors, batch * g.persons).reshape(batch, g.persons, g.frames, g.latent)
+
+
+def motion_features(batch: dict[str, jax.Array], generator: GeneratorConfig, parents: tuple[int, ...]) -> jax.Array:
+    """A pipeline batch -> the generator's representation, ``[B, T, V, C]`` or ``[B, P, T, V, C]``."""
+    if generator.output == "smpl":
+        if batch.get("rotations") is None or batch["rotations"].ndim != 4:
+            raise ValueError("batch['rotations']: the smpl representation needs one person's rotations [B, T, J, 3]")
+        return rotation_features(batch["rotations"], batch["translation"], "rot6d", origin="mean")
+    joints = batch["joints"]
+    single = joints.ndim == 4
+    features = skeleton_features(joints[:, None] if single else joints, parents)
+    return features[:, 0] if single else features
+
+
+def real_batches(training: ActFormerTraining, batch: dict[str, jax.Array], parents: tuple[int, ...]
+                 ) -> tuple[jax.Array, jax.Array]:
+    """``(motions [N, B, ...], labels [N, B])``: the step's windows split into its critic updates."""
+    n, b = training.n_critic, training.batch_size
+    motions = motion_features(batch, training.generator, parents)
+    return motions.reshape(n, b, *motions.shape[1:]), batch["actions"].reshape(n, b)
+
+
+def actformer_state(training: ActFormerTraining, graphs: CriticGraphs, key: jax.Array) -> MultiState:
+    k_g, k_c = jax.random.split(key)
+    g_params, g_sn = init_generator(k_g, training.generator)
+    c_params, c_sn = init_critic(k_c, training.critic, graphs)
+    adam = optax.adam(training.learning_rate, b1=training.betas[0], b2=training.betas[1])
+    return MultiState.create({"generator": g_params, "critic": c_params}, {"generator": adam, "critic": adam},
+                             buffers={"generator": g_sn, "critic": c_sn})
+
+
+def _critic_loss(loss: str, real: jax.Array, fake: jax.Array) -> jax.Array:
+    if loss == "hinge":
+        return jnp.mean(jax.nn.relu(1.0 - real)) + jnp.mean(jax.nn.relu(1.0 + fake))
+    return jnp.mean(fake) - jnp.mean(real)
+
+
+def actformer_step(training: ActFormerTraining, graphs: CriticGraphs, parents: tuple[int, ...]):
+    """The loop's step function ``(state, batch, key) -> (state, metrics)``."""
+    g_cfg, c_cfg = training.generator, training.critic
+    factors = latent_factors(training)
+    b = training.batch_size
+
+    def fakes(g_params, g_sn, key):
+        k_z, k_y = jax.random.split(key)
+        labels = jax.random.randint(k_y, (b,), 0, g_cfg.num_classes)
+        motion, g_sn = generate(g_cfg, g_params, g_sn, sample_latents(training, factors, k_z, b), labels, train=True)
+        return motion, labels, g_sn
+
+    def step(state: MultiState, batch: dict[str, jax.Array], key: jax.Array):
+        reals, labels = real_batches(training, batch, parents)
+        keys = jax.random.split(key, training.n_critic + 1)
+        g_sn, c_sn = state.buffers["generator"], state.buffers["critic"]
+        real_scores = fake_scores = None
+        for i in range(training.n_critic):
+            fake, fake_labels, g_sn = fakes(state.params["generator"], g_sn, keys[i])
+            fake = jax.lax.stop_gradient(fake)
+
+            def critic_loss(c_params, c_sn=c_sn, i=i, fake=fake, fake_labels=fake_labels):
+                real_score, c_sn = critic(c_cfg, graphs, c_params, c_sn, reals[i], labels[i], train=True)
+                fake_score, c_sn = critic(c_cfg, graphs, c_params, c_sn, fake, fake_labels, train=True)
+                return _critic_loss(training.loss, real_score, fake_score), (c_sn, real_score, fake_score)
+
+            (d_loss, (c_sn, real_scores, fake_scores)), grads = jax.value_and_grad(critic_loss, has_aux=True)(
+                state.params["critic"])
+            state = state.apply("critic", grads)
+
+        def generator_loss(g_params):
+            fake, fake_labels, moved_g = fakes(g_params, g_sn, keys[-1])
+            score, moved_c = critic(c_cfg, graphs, state.params["critic"], c_sn, fake, fake_labels, train=True)
+            return -jnp.mean(score), (moved_g, moved_c)
+
+        (g_loss, (g_sn, c_sn)), grads = jax.value_and_grad(generator_loss, has_aux=True)(state.params["generator"])
+        state = state.apply("generator", grads).with_buffer("generator", g_sn).with_buffer("critic", c_sn)
+        return state.next_step(), {"critic_loss": d_loss, "generator_loss": g_loss,
+                                   "real_score": jnp.mean(real_scores), "fake_score": jnp.mean(fake_scores)}
+
+    return step
+
+
+def _check_data(training: ActFormerTraining, data: MotionDataset) -> None:
+    g = training.generator
+    joints = g.joints - (1 if g.output == "smpl" else 0)  # SMPL-25: 24 joints + the translation
+    if data.skeleton.num_joints != joints or data.persons != g.persons or data.num_classes != g.num_classes:
+        raise ValueError(f"data: {data.name} has {data.skeleton.num_joints} joints, {data.persons} person(s) and "
+                         f"{data.num_classes} classes; the generator expects {joints}, {g.persons} and {g.num_classes}")
+
+
+def train_actformer(data: MotionDataset, training: ActFormerTraining, graphs: CriticGraphs, key: jax.Array,
+                    workdir: str | Path | None = None, *, progress: bool = True, **loop_options: Any) -> MultiState:
+    """Train on ``data`` (resuming from ``workdir``'s checkpoints) and return the final state; ``graphs``: the
+    critic's adjacencies for ``data``'s skeleton (:mod:`jaxmotion.nn.graph_coarsening`)."""
+    _check_data(training, data)
+    parents = data.skeleton.parents
+    return fit(data, key, init_state=lambda k: actformer_state(training, graphs, k),
+               step_fn=actformer_step(training, graphs, parents), batch=training.batch, loop=training.loop,
+               workdir=workdir, progress=progress, **loop_options)
+
+
+def sample(training: ActFormerTraining, state: MultiState, key: jax.Array, labels: jax.Array) -> np.ndarray:
+    """Generated motions for ``labels [B]`` (evaluation mode: the stored power-iteration vectors)."""
+    factors = latent_factors(training)
+    z = sample_latents(training, factors, key, labels.shape[0])
+    motion, _ = generate(training.generator, state.params["generator"], state.buffers["generator"], z, labels)
+    return np.asarray(motion)
