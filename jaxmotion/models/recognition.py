@@ -31,6 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
+from jaxmotion.geometry.representations import rotation_features, skeleton_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.nn.core import LinearParams, init_linear, linear
@@ -118,14 +119,19 @@ class RecognizerConfig:
 
     ``architecture``: ``gru`` (Action2Motion's classifier; ``hidden``, ``layers``, ``feature_dim``) or
     ``stgcn`` (``channels``, ``strides``, ``temporal_kernel``, ``dropout``; features = the pooled last
-    block, ``channels[-1]``-d). ``inputs``: ``joints`` (positions, translation kept) or ``rot6d`` (joint
-    rotations, no translation, as ACTOR's UESTC ST-GCN). ``canonical``: move every motion to the
-    canonical frame first (needs a skeleton with ``left_hip``/``right_hip``).
+    block, ``channels[-1]``-d). ``inputs``: ``joints`` (positions, translation kept), ``rot6d`` (joint
+    rotations, no translation, as ACTOR's UESTC ST-GCN), or ActFormer's representations: ``limbs`` (the root
+    minus the clip's mean root, then unit limb vectors, :func:`~jaxmotion.geometry.representations.skeleton_features`)
+    and ``rot6d+translation`` (rot6d, then the translation de-meaned over the clip as one more node, parent 0:
+    ActFormer's SMPL-25). ``canonical``: move every motion to the canonical frame first (needs a skeleton with
+    ``left_hip``/``right_hip``). ``graph_center``: the ST-GCN partition's centre joint (ACTOR: the root;
+    ActFormer's ``ntu-rgb+d`` layout: 20, the spine shoulder).
     """
 
     architecture: Literal["gru", "stgcn"] = "gru"
-    inputs: Literal["joints", "rot6d"] = "joints"
+    inputs: Literal["joints", "rot6d", "limbs", "rot6d+translation"] = "joints"
     canonical: bool = True
+    graph_center: int = 0
     hidden: int = 128
     layers: int = 2
     feature_dim: int = 30
@@ -156,18 +162,29 @@ class RecognizerConfig:
         """ACTOR's UESTC evaluator: ST-GCN (10 blocks, 64-256 channels) on rot6d, 256-d features."""
         return cls(architecture="stgcn", inputs="rot6d")
 
+    @classmethod
+    def actformer_stgcn(cls, inputs: str, graph_center: int = 0) -> RecognizerConfig:
+        """ActFormer's evaluators (FACTS 5): the same ST-GCN with dropout 0.5 on its own representation, in the
+        data's frame (no canonical turn)."""
+        return cls(architecture="stgcn", inputs=inputs, canonical=False, graph_center=graph_center, dropout=0.5)
+
+    @property
+    def channels_in(self) -> int:
+        return 6 if self.inputs.startswith("rot6d") else 3
+
     @property
     def features(self) -> int:
         return self.feature_dim if self.architecture == "gru" else self.channels[-1]
 
 
 def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Mapping[str, jax.Array]) -> jax.Array:
-    """What the network reads, ``[B, T, J, C]`` (C = 3 joints, 6 rot6d), from a batch of motions; ``[B, P, T, J,
-    C]`` for motions of P persons (the first person's frame 0 sets the canonical frame of all).
+    """What the network reads, ``[B, T, J', C]`` (C = 3 joints / limbs, 6 rot6d; J' = J, or J + 1 with the
+    translation node), from a batch of motions; ``[B, P, T, J', C]`` for motions of P persons (the first
+    person's frame 0 sets the canonical frame of all).
 
     ``motions``: ``joints [B, T, J, 3]`` (library frame, metres), optional ``translation [B, T, 3]`` (the
-    root; default joint 0), and ``rotations [B, T, J, 3]`` axis-angle (joint 0 global), required for rot6d;
-    or all of them ``[B, P, T, ...]``.
+    root; default joint 0), and ``rotations [B, T, J, 3]`` axis-angle (joint 0 global), required for the rot6d
+    inputs; or all of them ``[B, P, T, ...]``.
     """
     joints = jnp.asarray(motions["joints"], jnp.float32)
     num_joints = skeleton.num_joints
@@ -175,22 +192,34 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
         raise ValueError(f"motions['joints']: expected [B, T, {num_joints}, 3] or [B, P, T, {num_joints}, 3] "
                          f"({skeleton.name}), got {tuple(joints.shape)}")
     rotations = motions.get("rotations")
-    if config.inputs == "rot6d":
+    reads_rotations = config.inputs.startswith("rot6d")
+    if reads_rotations:
         if rotations is None:
-            raise ValueError("motions['rotations']: this recogniser reads rot6d and needs axis-angle rotations "
-                             f"[B, T, {num_joints}, 3]; the motions have joint positions only")
+            raise ValueError(f"motions['rotations']: this recogniser reads {config.inputs} and needs axis-angle "
+                             f"rotations [B, T, {num_joints}, 3]; the motions have joint positions only")
         rotations = jnp.asarray(rotations, jnp.float32)
         if rotations.shape != joints.shape:
             raise ValueError(f"motions['rotations']: expected {tuple(joints.shape)} like the joints, "
                              f"got {tuple(rotations.shape)}")
+    translation = jnp.asarray(motions.get("translation", joints[..., 0, :]), jnp.float32)
     if config.canonical:
-        translation = jnp.asarray(motions.get("translation", joints[..., 0, :]), jnp.float32)
         hips = skeleton.index("left_hip"), skeleton.index("right_hip")
-        joints, _, rotations = canonicalize_motion(joints, translation, rotations if config.inputs == "rot6d"
-                                                   else None, *hips)
+        joints, translation, rotations = canonicalize_motion(joints, translation, rotations if reads_rotations
+                                                             else None, *hips)
     if config.inputs == "joints":
         return joints
+    if config.inputs == "limbs":
+        single = joints.ndim == 4
+        features = skeleton_features(joints[:, None] if single else joints, skeleton.parents)
+        return features[:, 0] if single else features
+    if config.inputs == "rot6d+translation":
+        return rotation_features(rotations, translation, "rot6d", origin="mean")
     return from_matrix(axis_angle_to_matrix(rotations), "rot6d")
+
+
+def recognizer_parents(config: RecognizerConfig, skeleton: Skeleton) -> tuple[int, ...]:
+    """The tree the network's graph is built on: the skeleton's, plus the translation node (parent 0)."""
+    return skeleton.parents + ((0,) if config.inputs == "rot6d+translation" else ())
 
 
 def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden: int = 128, layers: int = 2,
@@ -202,9 +231,9 @@ def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden
                                init_linear(k_2, feature_dim, num_classes))
 
 
-def _stgcn_graph(skeleton: Skeleton) -> np.ndarray:
-    """The ST-GCN's spatial graph ``[3, J, J]``, centred on the root as ACTOR's evaluator."""
-    return spatial_partition(skeleton.parents, center=0)
+def _stgcn_graph(config: RecognizerConfig, skeleton: Skeleton) -> np.ndarray:
+    """The ST-GCN's spatial graph ``[3, J', J']``, centred on ``graph_center`` (ACTOR's evaluator: the root)."""
+    return spatial_partition(recognizer_parents(config, skeleton), center=config.graph_center)
 
 
 def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton, num_classes: int,
@@ -213,11 +242,11 @@ def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton
     every architecture's init has one signature). ``persons``: P of the motions it will read; the GRU reads
     every person's joints in each frame (its input grows with P), the ST-GCN shares its weights across
     persons and averages their features (ST-GCN's own rule), so its size does not depend on P."""
-    channels = 3 if config.inputs == "joints" else 6
+    channels, nodes = config.channels_in, len(recognizer_parents(config, skeleton))
     if config.architecture == "gru":
-        return {"params": init_gru_recognizer(key, persons * skeleton.num_joints * channels, num_classes, config.hidden,
+        return {"params": init_gru_recognizer(key, persons * nodes * channels, num_classes, config.hidden,
                                               config.layers, config.feature_dim)}
-    params, stats = init_stgcn(key, _stgcn_graph(skeleton), channels, num_classes, channels=config.channels,
+    params, stats = init_stgcn(key, _stgcn_graph(config, skeleton), channels, num_classes, channels=config.channels,
                                strides=config.strides, temporal_kernel=config.temporal_kernel)
     return {"params": params, "batch_stats": stats}
 
@@ -237,7 +266,7 @@ def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: 
             x = jnp.moveaxis(x, 1, 2)
         outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
         return outputs, {}
-    outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(skeleton),
+    outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(config, skeleton),
                            strides=config.strides, train=train, dropout_rate=config.dropout, dropout_key=key)
     return outputs, ({"batch_stats": stats} if train else {})
 
