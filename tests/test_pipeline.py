@@ -211,3 +211,19 @@ def test_pair_spec_rejects_unknown_partner_draws():
         PairSpec(BatchSpec(batch_size=2, window=4), other="nearest")
     with pytest.raises(ValueError, match="PairSpec.same_probability"):
         PairSpec(BatchSpec(batch_size=2, window=4), same_probability=1.5)
+
+
+def test_tiled_windows_cut_each_clip_as_actformers_reference_set():
+    from jaxmotion.data import synthetic
+    from jaxmotion.data.pipeline import tiled_windows
+
+    data = synthetic.generate("synth-humanact12", count=24)
+    out = tiled_windows(data, 30)
+    expected = [len(range(0, max(int(n) - 30, 0), 30)) for n in data.lengths]
+    np.testing.assert_array_equal(np.bincount(out["sequence"], minlength=len(data)), expected)
+    assert out["joints"].shape == (sum(expected), 30, 24, 3) and out["mask"].all()
+    k = int(np.flatnonzero(out["sequence"] == 0)[1])  # the clip's second window starts at frame 30
+    np.testing.assert_array_equal(out["joints"][k], data[0].joints[30:60])
+    np.testing.assert_array_equal(out["actions"], data.actions[out["sequence"]])
+    with pytest.raises(ValueError, match="no clip .* is longer than 1000 frames"):
+        tiled_windows(data, 1000)

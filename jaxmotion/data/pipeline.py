@@ -427,6 +427,33 @@ def epoch_windows(dataset: MotionDataset, key: jax.Array, spec: BatchSpec, count
     return gather_windows(dataset, ids, k_windows, spec)
 
 
+def tiled_windows(dataset: MotionDataset, window: int) -> dict[str, np.ndarray]:
+    """ActFormer's real reference set: every clip cut into non-overlapping windows of ``window`` frames at
+    ``0, window, 2·window, ...`` while the start is below ``length - window`` (the code's rule: a clip of exactly
+    ``window`` frames or fewer gives none), in the data's own frame. Returns a host batch dict like
+    :func:`gather_windows` (``joints``, ``translation``, ``rotations`` when present, ``[W, T, ...]`` or ``[W, P,
+    T, ...]``; ``mask``, ``lengths``, ``actions``, ``modes``, ``subjects`` ``[W]``); ``sequence [W]`` says which
+    clip each window came from. Raises when no clip is long enough."""
+    if window < 1:
+        raise ValueError(f"window: expected >= 1, got {window}")
+    lengths = dataset.lengths
+    clip, start = [], []
+    for i, n in enumerate(lengths):
+        offsets = np.arange(0, max(int(n) - window, 0), window)
+        clip.append(np.full(offsets.size, i))
+        start.append(dataset.starts[i] + offsets)
+    clip, start = np.concatenate(clip).astype(np.int64), np.concatenate(start).astype(np.int64)
+    if clip.size == 0:
+        raise ValueError(f"window: no clip of {dataset.name}/{dataset.split} is longer than {window} frames")
+    frames = start[:, None] + np.arange(window)[None]  # [W, T]
+    arrays = {"joints": dataset.joints, "translation": dataset.translation, "rotations": dataset.rotations}
+    out = {k: (np.moveaxis(v[frames], 2, 1) if dataset.persons > 1 else v[frames])
+           for k, v in arrays.items() if v is not None}
+    labels = {"actions": dataset.actions, "modes": dataset.modes, "subjects": dataset.subjects}
+    return {**out, "mask": np.ones(frames.shape, bool), "lengths": np.full(clip.size, window, np.int32),
+            **{k: v[clip] for k, v in labels.items()}, "sequence": clip}
+
+
 def class_windows(dataset: MotionDataset, key: jax.Array, spec: BatchSpec, per_class: int) -> dict[str, np.ndarray]:
     """``per_class`` windows of every class present, clips drawn uniformly within the class (without
     repetition while the class has enough clips, with it beyond): ODMO's and ActFormer's class-balanced
