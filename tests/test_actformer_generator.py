@@ -120,3 +120,15 @@ def test_bad_inputs_name_the_field():
         generate(config, params, spectral, jnp.zeros((2, 8, 120)), jnp.zeros(3, int))
     with pytest.raises(ValueError, match="GeneratorConfig.output"):
         GeneratorConfig(num_classes=2, output="smpl")
+
+
+def test_interaction_by_concatenation_is_the_one_person_network_with_every_person_in_its_head():
+    config = GeneratorConfig(num_classes=3, persons=2, frames=8, interaction="concat")
+    params, spectral = _ready(config, 6)
+    assert config.num_blocks == config.depth and params.positions.shape == (9, config.width)
+    assert params.head.weight.shape == (25 * 2 * 3, config.width)
+    motion = np.asarray(generate(config, params, spectral, _z(config), jnp.array([0, 1, 2]))[0])
+    assert motion.shape == (3, 2, 8, 25, 3)
+    assert np.median(np.linalg.norm(motion[..., 1:, :], axis=-1)) > 0.99
+    with pytest.raises(ValueError, match="one latent sequence per person needs interaction='iformer'"):
+        generate(config, params, spectral, _z(config, per_person=True), jnp.array([0, 1, 2]))

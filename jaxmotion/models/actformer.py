@@ -13,7 +13,9 @@ embedded latent and action token (the shared z), and each of the ``depth`` block
 the P persons of a frame) followed by a T-Former (over the T + 1 tokens of a person). The positional encoding is
 one free ``[T + 1, P, D]`` tensor initialised as the concatenation of a temporal ``[T + 1, D/2]`` and a person
 ``[P, D/2]`` part (``positions="split"``; ``"independent"`` draws the whole tensor at once; ``"fixed"``:
-sinusoidal codes, not trained, the class row zero).
+sinusoidal codes, not trained, the class row zero). ``interaction="concat"`` (Table 5's "interaction by
+concatenation"): the one-person network whose head gives every person's joints at once (``V·P·C`` per frame,
+person-major per joint, as the code's channel layout), no I-Formers.
 
 Output normalisation (``output``): ``skeleton``, for root + limb-vector data (NTU-25, GTA-22): joint 0 is the
 raw root position, every other joint ``tanh`` then divided by its norm + 1e-4 (a unit limb direction);
@@ -69,6 +71,7 @@ class GeneratorConfig:
     spectral_norm: bool = True
     output: Literal["skeleton", "smpl", "raw"] = "skeleton"
     positions: Literal["split", "independent", "fixed"] = "split"
+    interaction: Literal["iformer", "concat"] = "iformer"
 
     def __post_init__(self):
         for name in ("num_classes", "joints", "channels", "persons", "frames", "latent", "width_per_joint",
@@ -83,6 +86,8 @@ class GeneratorConfig:
             raise ValueError(f"GeneratorConfig.output: 'smpl' normalises rot6d (6 channels), channels is {self.channels}")
         if self.output not in ("skeleton", "smpl", "raw") or self.positions not in ("split", "independent", "fixed"):
             raise ValueError(f"GeneratorConfig: output {self.output!r} / positions {self.positions!r} unknown")
+        if self.interaction not in ("iformer", "concat"):
+            raise ValueError(f"GeneratorConfig.interaction: expected 'iformer' or 'concat', got {self.interaction!r}")
         if self.positions == "fixed" and self.width % 4:
             raise ValueError(f"GeneratorConfig.positions: 'fixed' needs a width divisible by 4, got {self.width}")
 
@@ -91,9 +96,14 @@ class GeneratorConfig:
         return self.width_per_joint * self.joints
 
     @property
+    def tokens_per_person(self) -> bool:
+        """Whether each person has its own tokens (I-Formers); otherwise one token sequence for the clip."""
+        return self.persons > 1 and self.interaction == "iformer"
+
+    @property
     def num_blocks(self) -> int:
         """Transformer layers: ``depth`` T-Formers, or ``depth`` (I-Former, T-Former) pairs."""
-        return self.depth if self.persons == 1 else 2 * self.depth
+        return 2 * self.depth if self.tokens_per_person else self.depth
 
 
 class GeneratorParams(NamedTuple):
@@ -153,7 +163,7 @@ def _init_positions(key: jax.Array, config: GeneratorConfig) -> jax.Array | None
     steps, persons, d = config.frames + 1, config.persons, config.width
     if config.positions == "fixed":
         return None
-    if persons == 1:
+    if not config.tokens_per_person:
         return _trunc_normal(key, (steps, d))
     if config.positions == "independent":
         return _trunc_normal(key, (steps, persons, d))
@@ -167,7 +177,7 @@ def fixed_positions(config: GeneratorConfig) -> jax.Array:
     """``[T + 1, D]`` or ``[T + 1, P, D]`` the sinusoidal codes of ``positions="fixed"`` (class row zero; several
     persons: the temporal code in the first half of the width, the person code in the second)."""
     steps, persons, d = config.frames, config.persons, config.width
-    if persons == 1:
+    if not config.tokens_per_person:
         return jnp.concatenate([jnp.zeros((1, d)), sinusoidal_encoding(jnp.arange(steps), d)])
     temporal = jnp.broadcast_to(sinusoidal_encoding(jnp.arange(steps), d // 2)[:, None], (steps, persons, d // 2))
     person = jnp.broadcast_to(sinusoidal_encoding(jnp.arange(persons), d // 2)[None], (steps, persons, d // 2))
@@ -184,7 +194,8 @@ def init_generator(key: jax.Array, config: GeneratorConfig) -> tuple[GeneratorPa
         positions=_init_positions(k_pos, config),
         blocks=stack_layers([_init_block(k, config) for k in jax.random.split(k_blocks, config.num_blocks)]),
         final_norm=LayerNormParams(jnp.ones((d,)), jnp.zeros((d,))),
-        head=_init_linear(k_head, d, config.joints * config.channels, sn),
+        head=_init_linear(k_head, d, config.joints * config.channels * (1 if config.tokens_per_person
+                                                                        else config.persons), sn),
     )
     if not sn:
         return params, None
@@ -275,7 +286,9 @@ def generate(config: GeneratorConfig, params: GeneratorParams, spectral: Generat
     x = linear(p.input_embedding, z)  # [B, T, D] or [B, P, T, D]
     token = p.class_embedding[labels]  # [B, D]
     positions = fixed_positions(c) if p.positions is None else p.positions
-    if c.persons == 1:
+    if not c.tokens_per_person:
+        if not shared:
+            raise ValueError("z: one latent sequence per person needs interaction='iformer' (tokens per person)")
         x = jnp.concatenate([token[:, None], x], 1) + positions  # [B, T + 1, D]
         for i in range(c.num_blocks):
             x = _block(jax.tree.map(lambda leaf, i=i: leaf[i], p.blocks), x, c.heads)
@@ -292,5 +305,8 @@ def generate(config: GeneratorConfig, params: GeneratorParams, spectral: Generat
             x = jnp.swapaxes(_block(temporal, x, c.heads).reshape(batch, c.persons, c.frames + 1, d), 1, 2)
         x = jnp.swapaxes(x, 1, 2)  # [B, P, T + 1, D]
     x = linear(p.head, layer_norm(p.final_norm, x, eps=_EPS))[..., 1:, :]  # the action token dropped
-    x = x.reshape(*x.shape[:-1], c.joints, c.channels)
+    if c.persons > 1 and not c.tokens_per_person:  # one token per frame holding every person, person-major
+        x = jnp.moveaxis(x.reshape(batch, c.frames, c.joints, c.persons, c.channels), 3, 1)
+    else:
+        x = x.reshape(*x.shape[:-1], c.joints, c.channels)
     return normalize_output(x, c.output), spectral
