@@ -18,10 +18,10 @@ from jaxmotion.models.a2m import (
     a2m_optimizer,
     a2m_vae_forward,
     a2m_vae_loss,
-    count_parameters,
     gaussian_kl,
     init_a2m_vae,
 )
+from jaxmotion.nn.core import count_parameters
 from jaxmotion.train.a2m import a2m_step
 
 F, C, B, T = 6, 2, 3, 7

@@ -10,11 +10,11 @@ from jaxmotion.models.actformer_critic import (
     CriticConfig,
     CriticGraphs,
     GraphConvParams,
-    count_parameters,
     critic,
     graph_conv,
     init_critic,
 )
+from jaxmotion.nn.core import count_parameters
 
 
 def _graphs(rng, sizes=(25, 11, 5)):

@@ -7,7 +7,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from jaxmotion.models.actformer import GeneratorConfig, count_parameters, generate, init_generator
+from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
+from jaxmotion.nn.core import count_parameters
 from jaxmotion.nn.gp_prior import gp_factors, sample_gp
 
 

@@ -23,6 +23,7 @@ from jaxmotion.losses.odmo import (
     weighted_frame_error,
 )
 from jaxmotion.models import odmo
+from jaxmotion.nn.core import count_parameters
 from jaxmotion.train.odmo import TeacherForcing, validation_split
 
 TINY = odmo.ODMOConfig(num_joints=4, num_classes=3, num_frames=8, code_dim=5, encoder_hidden=6, encoder_width=7,
@@ -54,7 +55,7 @@ def test_parameter_counts_match_a_hand_count_of_the_authors_layers(sizes, decode
     assert config.decoder_input == decoder_input
     params, _ = jax.eval_shape(lambda: odmo.init_odmo(jax.random.key(0), config))
     expected = _hand_count(config.num_joints, config.num_classes, config.num_frames)
-    assert odmo.count_parameters(params) == expected
+    assert count_parameters(params) == expected
     if sizes == "humanact12":
         assert expected == 4_551_019  # the authors' Ensemble, counted in torch
 

@@ -68,7 +68,6 @@ default initialisation (every weight and bias U(±1/√fan_in); for GRU cells fa
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Literal, NamedTuple
 
 import jax
@@ -190,9 +189,6 @@ def init_a2m_vae(key: jax.Array, config: A2MVAEConfig) -> A2MVAEParams:
     )
 
 
-def count_parameters(params) -> int:
-    """Number of scalars in a parameter tree (works on ``jax.eval_shape`` output too)."""
-    return sum(math.prod(leaf.shape) for leaf in jax.tree.leaves(params))
 
 
 # ----------------------------------------------------------------------------------------------- functions

@@ -44,7 +44,6 @@ from typing import Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from jaxmotion.nn.core import LayerNormParams, LinearParams, init_linear, layer_norm, linear
 from jaxmotion.nn.gp_prior import CHANNELS
@@ -210,9 +209,6 @@ def init_generator(key: jax.Array, config: GeneratorConfig) -> tuple[GeneratorPa
     return params, spectral
 
 
-def count_parameters(params: GeneratorParams) -> int:
-    """Trained values (the fixed positional codes are not parameters)."""
-    return int(sum(np.prod(leaf.shape) for leaf in jax.tree.leaves(params)))
 
 
 # --- forward -----------------------------------------------------------------------------------------------

@@ -145,8 +145,6 @@ def init_critic(key: jax.Array, config: CriticConfig, graphs: CriticGraphs) -> t
     return params, CriticSpectral(*(init_spectral_state(k, w) for k, w in zip(jax.random.split(keys[7], 7), weights)))
 
 
-def count_parameters(params: CriticParams) -> int:
-    return int(sum(np.prod(leaf.shape) for leaf in jax.tree.leaves(params)))
 
 
 def _normalized(params: CriticParams, spectral: CriticSpectral | None, train: bool

@@ -49,7 +49,6 @@ once per frame; the trajectory generator's per-frame layers run on the whole seq
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import NamedTuple
 
 import jax
@@ -209,9 +208,6 @@ def init_odmo(key: jax.Array, config: ODMOConfig) -> tuple[ODMOParams, ODMOStats
     return ODMOParams(trajectory, encoder, motion), ODMOStats(bn1_stats, bn4_stats)
 
 
-def count_parameters(params) -> int:
-    """Number of trained scalars in a parameter tree (running statistics are not parameters)."""
-    return sum(math.prod(leaf.shape) for leaf in jax.tree.leaves(params))
 
 
 # ------------------------------------------------------------------------------- the authors' state dict

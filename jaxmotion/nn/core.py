@@ -40,6 +40,12 @@ def torch_uniform(key: jax.Array, shape: tuple[int, ...], fan_in: int) -> jax.Ar
     return jax.random.uniform(key, shape, jnp.float32, -bound, bound)
 
 
+def count_parameters(params) -> int:
+    """Number of scalars in a parameter tree (works on ``jax.eval_shape`` output too): pass the trained
+    parameters only, not running statistics or power-iteration vectors."""
+    return sum(math.prod(leaf.shape) for leaf in jax.tree.leaves(params))
+
+
 # ------------------------------------------------------------------------------------------------ linear
 
 

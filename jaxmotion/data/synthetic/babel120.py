@@ -30,7 +30,7 @@ from collections.abc import Callable
 import numpy as np
 
 from jaxmotion.data.formats.babel import CATEGORIES
-from jaxmotion.data.synthetic import (anatomy, cmu, humanact12, ntu1p_daily, ntu1p_extended, ntu13, skills, timing,
+from jaxmotion.data.synthetic import (cmu, humanact12, ntu1p_daily, ntu1p_extended, ntu13, skills, timing,
                                       uestc)
 from jaxmotion.data.synthetic.engine import ActionClass
 from jaxmotion.data.synthetic.take import SIDES, Take, other

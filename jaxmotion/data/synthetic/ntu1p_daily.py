@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from jaxmotion.data.formats.ntu120 import ACTION_NAMES
-from jaxmotion.data.synthetic import anatomy, humanact12, ntu13, skills, timing
+from jaxmotion.data.synthetic import humanact12, ntu13, skills, timing
 from jaxmotion.data.synthetic.engine import ActionClass
 from jaxmotion.data.synthetic.take import SIDES, Take, other
 from jaxmotion.geometry.skeletons import SMPL24
