@@ -12,16 +12,8 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.geometry.skeletons import NTU25
 from jaxmotion.models.actformer import GeneratorConfig
-from jaxmotion.models.actformer_critic import CriticGraphs
-from jaxmotion.train.actformer import ActFormerTraining, real_batches, sample, train_actformer
+from jaxmotion.train.actformer import ActFormerTraining, critic_graphs, real_batches, sample, train_actformer
 from jaxmotion.train.loop import LoopConfig
-
-
-def _graphs(sizes=(25, 11, 5)):
-    """Adjacency stand-ins of the NTU pyramid's shapes (the step does not depend on their values)."""
-    rng = np.random.default_rng(0)
-    v, l1, l2 = sizes
-    return CriticGraphs(*(rng.uniform(0, 0.5, (2, w, n)) for w, n in ((v, v), (l1, v), (l2, l1), (l2, l2))))
 
 
 def _training(persons=2, loss="hinge", steps=2):
@@ -49,13 +41,14 @@ def test_real_windows_become_root_and_unit_limb_vectors_split_per_critic_update(
 @pytest.mark.parametrize("loss", ["hinge", "wgan"])
 def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, tmp_path):
     training = _training(loss=loss)
-    first = train_actformer(pairs, training, _graphs(), jax.random.key(1), tmp_path / "a", progress=False)
-    again = train_actformer(pairs, training, _graphs(), jax.random.key(1), tmp_path / "b", progress=False)
+    first = train_actformer(pairs, training, jax.random.key(1), tmp_path / "a", progress=False)
+    again = train_actformer(pairs, training, jax.random.key(1), tmp_path / "b", progress=False)
     for a, b in zip(jax.tree.leaves(first), jax.tree.leaves(again)):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
     from jaxmotion.train.actformer import actformer_state
 
-    fresh = actformer_state(training, _graphs(), jax.random.split(jax.random.key(1), 3)[0])
+    k_init = jax.random.split(jax.random.key(1), 3)[0]  # fit's initialisation key
+    fresh = actformer_state(training, critic_graphs(training, NTU25.parents), k_init)
     for name in ("generator", "critic"):
         assert int(first.opt_states[name][0].count) == (2 if name == "generator" else 4)  # 2 steps x n_critic 2
         paths = jax.tree_util.tree_flatten_with_path(first.params[name])[0]
@@ -76,4 +69,4 @@ def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, 
 def test_mismatched_data_is_refused(pairs):
     training = dataclasses.replace(_training(), generator=GeneratorConfig(num_classes=26, frames=16, depth=1))
     with pytest.raises(ValueError, match="the generator expects 25, 1 and 26"):
-        train_actformer(pairs, training, _graphs(), jax.random.key(0), None, progress=False)
+        train_actformer(pairs, training, jax.random.key(0), None, progress=False)

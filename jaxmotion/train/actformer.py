@@ -37,6 +37,7 @@ from jaxmotion.geometry.representations import rotation_features, skeleton_featu
 from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
 from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
+from jaxmotion.nn.graph_coarsening import critic_adjacency
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.state import MultiState
@@ -183,12 +184,20 @@ def _check_data(training: ActFormerTraining, data: MotionDataset) -> None:
                          f"{data.num_classes} classes; the generator expects {joints}, {g.persons} and {g.num_classes}")
 
 
-def train_actformer(data: MotionDataset, training: ActFormerTraining, graphs: CriticGraphs, key: jax.Array,
-                    workdir: str | Path | None = None, *, progress: bool = True, **loop_options: Any) -> MultiState:
+def critic_graphs(training: ActFormerTraining, parents: tuple[int, ...]) -> CriticGraphs:
+    """The critic's adjacencies for a skeleton (plus the translation node, parent 0, for SMPL-25)."""
+    extra = (0,) if training.generator.output == "smpl" else ()
+    return CriticGraphs(*critic_adjacency(tuple(parents) + extra))
+
+
+def train_actformer(data: MotionDataset, training: ActFormerTraining, key: jax.Array,
+                    workdir: str | Path | None = None, *, graphs: CriticGraphs | None = None, progress: bool = True,
+                    **loop_options: Any) -> MultiState:
     """Train on ``data`` (resuming from ``workdir``'s checkpoints) and return the final state; ``graphs``: the
-    critic's adjacencies for ``data``'s skeleton (:mod:`jaxmotion.nn.graph_coarsening`)."""
+    critic's adjacencies, by default :func:`critic_graphs` of ``data``'s skeleton."""
     _check_data(training, data)
     parents = data.skeleton.parents
+    graphs = critic_graphs(training, parents) if graphs is None else graphs
     return fit(data, key, init_state=lambda k: actformer_state(training, graphs, k),
                step_fn=actformer_step(training, graphs, parents), batch=training.batch, loop=training.loop,
                workdir=workdir, progress=progress, **loop_options)
