@@ -130,6 +130,11 @@ def test_end_point_trials_measure_the_distance_to_the_requested_end():
     assert 0.0 <= result["hit_rate"] <= 1.0
     ends = result["motions"]["ends"].reshape(3, 2, 4, 3)
     np.testing.assert_allclose(ends[:, :, 1] - ends[:, :, 0], ends[:, :, 3] - ends[:, :, 2], atol=1e-6)  # evenly spaced
+    # as the authors' test, each trial's first end point is its source window's own end
+    codes = result["motions"]["codes"].reshape(3, 2, 4, -1)[:, :, 0]
+    for code, first in zip(codes.reshape(-1, codes.shape[-1]), ends[:, :, 0].reshape(-1, 3)):
+        row = int(np.flatnonzero(np.all(trained.bank.codes == code, axis=1))[0])
+        np.testing.assert_allclose(first, trained.bank.ends[row], atol=1e-6)
 
 
 def test_code_bank_holds_unique_codes_in_class_order_with_their_windows_ends():

@@ -358,8 +358,9 @@ def customize_end(trained, training, codes, action: int, ends) -> dict[str, np.n
 def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, points: int = 10,
                      threshold: float = 0.1) -> dict[str, np.ndarray]:
     """Table 4's test (OD ``trajectory_customization.py``): per class, ``trials`` times, a random real code
-    of the class and ``points`` end points evenly spaced between the end roots of two random real windows
-    of the class; each pair decoded and its final root compared with the requested end.
+    of the class and ``points`` end points evenly spaced from that window's own end root to the end root of
+    another random real window of the class (the authors' first end point is the source's); each pair decoded
+    and its final root compared with the requested end.
 
     Returns the motions (the batch dict, ``trials · points`` per class, in class order) and ``dist_e`` (the
     code's metric, :func:`~jaxmotion.metrics.trajectory.end_point_error`: mean over classes of the mean
@@ -369,10 +370,10 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
     codes, ends, actions = [], [], []
     for c in range(config.num_classes):
         rows = bank.of_class(c)
-        pick = np.asarray(jax.random.randint(jax.random.fold_in(key, c), (trials, 3), 0, len(rows)))
-        source, end_a, end_b = (rows[pick[:, i]] for i in range(3))
+        pick = np.asarray(jax.random.randint(jax.random.fold_in(key, c), (trials, 2), 0, len(rows)))
+        source, end_b = rows[pick[:, 0]], rows[pick[:, 1]]
         w = np.linspace(0.0, 1.0, points, dtype=np.float32)[None, :, None]
-        ends.append(((1 - w) * bank.ends[end_a][:, None] + w * bank.ends[end_b][:, None]).reshape(-1, 3))
+        ends.append(((1 - w) * bank.ends[source][:, None] + w * bank.ends[end_b][:, None]).reshape(-1, 3))
         codes.append(np.repeat(bank.codes[source], points, axis=0))
         actions.append(np.full(trials * points, c, np.int32))
     codes, ends, actions = np.concatenate(codes), np.concatenate(ends), np.concatenate(actions)
