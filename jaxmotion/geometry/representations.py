@@ -112,3 +112,21 @@ def skeleton_features(joints: jax.Array, parents: tuple[int, ...]) -> jax.Array:
     _check("joints", joints, (None, None, len(parents), 3), 4, f"[..., P, T, {len(parents)}, 3]")
     centre = jnp.mean(joints[..., 0, :], axis=(-3, -2), keepdims=True)[..., None, :]  # [..., 1, 1, 1, 3]
     return limb_vectors(joints - centre, parents)
+
+
+def actformer_features(kind: str, parents: tuple[int, ...], joints: jax.Array, translation: jax.Array | None = None,
+                       rotations: jax.Array | None = None) -> jax.Array:
+    """ActFormer's representation of windows of one person ``[B, T, J, 3]`` or several ``[B, P, T, J, 3]`` (what
+    its generator writes and its recognisers read): ``limbs`` (:func:`skeleton_features`) ``[B, (P,) T, J, 3]``,
+    or ``rot6d+translation`` (:func:`rotation_features`, the translation de-meaned over the window as node J)
+    ``[B, (P,) T, J + 1, 6]`` from axis-angle ``rotations`` and ``translation [B, (P,) T, 3]``."""
+    if kind == "limbs":
+        single = joints.ndim == 4
+        features = skeleton_features(joints[:, None] if single else joints, parents)
+        return features[:, 0] if single else features
+    if kind == "rot6d+translation":
+        if rotations is None or translation is None:
+            raise ValueError("rotations, translation: rot6d+translation needs both (axis-angle [B, T, J, 3] and "
+                             "[B, T, 3]); the motions have joint positions only")
+        return rotation_features(rotations, translation, "rot6d", origin="mean")
+    raise ValueError(f"kind: expected 'limbs' or 'rot6d+translation', got {kind!r}")

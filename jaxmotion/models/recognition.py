@@ -31,7 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
-from jaxmotion.geometry.representations import rotation_features, skeleton_features
+from jaxmotion.geometry.representations import actformer_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.nn.core import LinearParams, init_linear, linear
@@ -208,12 +208,8 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
                                                              else None, *hips)
     if config.inputs == "joints":
         return joints
-    if config.inputs == "limbs":
-        single = joints.ndim == 4
-        features = skeleton_features(joints[:, None] if single else joints, skeleton.parents)
-        return features[:, 0] if single else features
-    if config.inputs == "rot6d+translation":
-        return rotation_features(rotations, translation, "rot6d", origin="mean")
+    if config.inputs in ("limbs", "rot6d+translation"):
+        return actformer_features(config.inputs, skeleton.parents, joints, translation, rotations)
     return from_matrix(axis_angle_to_matrix(rotations), "rot6d")
 
 

@@ -33,7 +33,7 @@ import optax
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, Sampling
-from jaxmotion.geometry.representations import rotation_features, skeleton_features
+from jaxmotion.geometry.representations import actformer_features
 from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
 from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
@@ -100,14 +100,8 @@ def sample_latents(training: ActFormerTraining, factors: jax.Array, key: jax.Arr
 
 def motion_features(batch: dict[str, jax.Array], generator: GeneratorConfig, parents: tuple[int, ...]) -> jax.Array:
     """A pipeline batch -> the generator's representation, ``[B, T, V, C]`` or ``[B, P, T, V, C]``."""
-    if generator.output == "smpl":
-        if batch.get("rotations") is None or batch["rotations"].ndim != 4:
-            raise ValueError("batch['rotations']: the smpl representation needs one person's rotations [B, T, J, 3]")
-        return rotation_features(batch["rotations"], batch["translation"], "rot6d", origin="mean")
-    joints = batch["joints"]
-    single = joints.ndim == 4
-    features = skeleton_features(joints[:, None] if single else joints, parents)
-    return features[:, 0] if single else features
+    kind = "rot6d+translation" if generator.output == "smpl" else "limbs"
+    return actformer_features(kind, parents, batch["joints"], batch.get("translation"), batch.get("rotations"))
 
 
 def real_batches(training: ActFormerTraining, batch: dict[str, jax.Array], parents: tuple[int, ...]
