@@ -2,9 +2,9 @@
 
 Paper: Lu, Roy-Chowdhury et al., ACM MM 2022, §4.4, Table 4 and Figure 4; the test as the authors' code runs
 it (``trajectory_customization.py``, :func:`jaxmotion.pipelines.odmo.end_point_trials`): per class, 40
-times, one random real code of the class and 10 end points evenly spaced between the end roots of two random
-real windows of the class; the 400 motions per class are generated from the origin and compared with their
-targets. Rows: **ODMO**, **-L_traj** (trained without the trajectory and consistency terms), **-L_cons**
+times, one random real code of the class and 10 end points evenly spaced from the end root of that code's
+window to the end root of another random window of the class; the 400 motions per class are generated from
+the origin and compared with their targets. Rows: **ODMO**, **-L_traj** (trained without the trajectory and consistency terms), **-L_cons**
 (without the consistency term); columns per dataset:
 
 * **Acc**: the dataset's recogniser's accuracy on the customised motions (%);
@@ -13,6 +13,11 @@ targets. Rows: **ODMO**, **-L_traj** (trained without the trajectory and consist
 * **end error** (cm): the mean Euclidean distance (the issue's target: ≤ 10 cm on synth-humanact12, ≤ 30 cm
   on synth-cmu); **hit rate** (%): the share of motions ending within 10% of the target's distance from the
   start (the code's logged "error rate", which counts successes).
+
+Two diagnostics of where the end error comes from (not in the paper): **path end error** (cm), the
+trajectory generator's own error (its path's last point against the target; the motion generator then has
+to follow that path), and **end response**, how far the final root moves per metre the target moves along
+a trial's 10 end points (:func:`jaxmotion.pipelines.odmo.end_response`; 1 follows, 0 ignores the target).
 
 Each repetition (10 in the paper, seeds 0..9) draws new codes and end points from the same trained models.
 
@@ -121,7 +126,8 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
     key = ctx.key(f"train {table.label}")
     for name, training in ablations(table.odmo).items():
         trained = training.fit(data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh)
-        cells = {"Acc": [], "dist_e": [], "end error (cm)": [], "hit rate (%)": []}
+        cells = {"Acc": [], "dist_e": [], "end error (cm)": [], "hit rate (%)": [], "path end error (cm)": [],
+                 "end response": []}
         for r in range(table.repetitions):
             result = end_point_trials(trained, training, jax.random.fold_in(ctx.key(f"trials {table.label}"), r),
                                       trials=table.trials, points=table.points)
@@ -132,6 +138,8 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
             cells["dist_e"].append(result["dist_e"])
             cells["end error (cm)"].append(100 * result["end_error"])
             cells["hit rate (%)"].append(100 * result["hit_rate"])
+            cells["path end error (cm)"].append(100 * result["path_end_error"])
+            cells["end response"].append(result["end_response"])
         rows[name] = cells
         if name == "ODMO":
             _figures(trained, training, ctx.workdir / "figures", table.label, ctx.key(f"figures {table.label}"))

@@ -128,6 +128,10 @@ def test_end_point_trials_measure_the_distance_to_the_requested_end():
     np.testing.assert_allclose(result["dist_e"], squared.reshape(3, 8).mean(1).mean(), rtol=1e-5)
     np.testing.assert_allclose(result["end_error"], np.sqrt(squared).reshape(3, 8).mean(1).mean(), rtol=1e-5)
     assert 0.0 <= result["hit_rate"] <= 1.0
+    path = np.linalg.norm(result["motions"]["trajectory"][:, -1] - result["motions"]["ends"], axis=-1)
+    np.testing.assert_allclose(result["path_end_error"], path.reshape(3, 8).mean(1).mean(), rtol=1e-5)
+    assert result["end_response"] == pytest.approx(
+        pipe.end_response(final.reshape(6, 4, 3), result["motions"]["ends"].reshape(6, 4, 3)))
     ends = result["motions"]["ends"].reshape(3, 2, 4, 3)
     np.testing.assert_allclose(ends[:, :, 1] - ends[:, :, 0], ends[:, :, 3] - ends[:, :, 2], atol=1e-6)  # evenly spaced
     # as the authors' test, each trial's first end point is its source window's own end
@@ -135,6 +139,15 @@ def test_end_point_trials_measure_the_distance_to_the_requested_end():
     for code, first in zip(codes.reshape(-1, codes.shape[-1]), ends[:, :, 0].reshape(-1, 3)):
         row = int(np.flatnonzero(np.all(trained.bank.codes == code, axis=1))[0])
         np.testing.assert_allclose(first, trained.bank.ends[row], atol=1e-6)
+
+
+def test_end_response_is_one_when_motions_follow_their_ends_and_zero_when_they_ignore_them():
+    ends = np.stack([np.linspace([0.0, 0.0, 1.0], [2.0, 0.0, 3.0], 5), np.linspace([1.0, 0.0, 0.0], [0.0, 0.0, -2.0], 5)])
+    assert pipe.end_response(ends + np.array([0.3, 0.0, -0.2]), ends) == pytest.approx(1.0)  # offset, follows
+    assert pipe.end_response(np.broadcast_to(ends[:, :1], ends.shape) + 0.1, ends) == pytest.approx(0.0)
+    assert pipe.end_response(ends[:, :1] + 0.5 * (ends - ends[:, :1]), ends) == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="ends: every sweep"):
+        pipe.end_response(ends, np.zeros_like(ends))
 
 
 def test_code_bank_holds_unique_codes_in_class_order_with_their_windows_ends():

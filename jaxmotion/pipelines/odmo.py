@@ -365,7 +365,10 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
     Returns the motions (the batch dict, ``trials · points`` per class, in class order) and ``dist_e`` (the
     code's metric, :func:`~jaxmotion.metrics.trajectory.end_point_error`: mean over classes of the mean
     squared end error, m²), ``hit_rate`` (:func:`~jaxmotion.metrics.trajectory.end_point_hit_rate` at
-    ``threshold``), ``end_error`` (mean over classes of the mean Euclidean error, m) and ``squared_error [N]``."""
+    ``threshold``), ``end_error`` (mean over classes of the mean Euclidean error, m), ``squared_error [N]``
+    and two diagnostics of where the error comes from: ``path_end_error`` (``end_error`` of the trajectory
+    generator's path instead of the motion's root, m) and ``end_response`` (:func:`end_response` of the
+    motions' final roots: 1 when they move with the requested end, 0 when they ignore it)."""
     bank, config = trained.bank, training.model
     codes, ends, actions = [], [], []
     for c in range(config.num_classes):
@@ -380,11 +383,31 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
     motions = generate_from_codes(trained.params, config, codes, actions, ends)
     joints, classes = jnp.asarray(motions["joints"]), config.num_classes
     squared = np.asarray(end_point_squared_error(joints, ends))
-    distance = np.sqrt(squared)
+    path_distance = np.linalg.norm(motions["trajectory"][:, -1] - ends, axis=-1)
+
+    def class_mean(values):
+        return float(np.mean([values[actions == c].mean() for c in range(classes)]))
+
     return {"motions": motions, "squared_error": squared,
             "dist_e": float(end_point_error(joints, ends, actions, classes)),
             "hit_rate": float(end_point_hit_rate(joints, ends, actions, classes, threshold)),
-            "end_error": float(np.mean([distance[actions == c].mean() for c in range(classes)]))}
+            "end_error": class_mean(np.sqrt(squared)), "path_end_error": class_mean(path_distance),
+            "end_response": end_response(motions["joints"][:, -1, 0].reshape(-1, points, 3),
+                                         ends.reshape(-1, points, 3))}
+
+
+def end_response(finals: np.ndarray, ends: np.ndarray) -> float:
+    """How far the final roots ``finals [N, P, 3]`` move per metre the requested ends ``ends [N, P, 3]`` move,
+    along each of N sweeps of P end points made with one code: the least-squares slope of the final root's
+    displacement from the sweep's first on the request's (1: the motion goes where it is sent; 0: the code
+    alone decides where it ends). A motion can end near its targets and still ignore them, when the targets
+    lie near where the code's window ended; this tells the two apart."""
+    requested = ends - ends[:, :1]
+    moved = finals - finals[:, :1]
+    scale = float(np.sum(requested * requested))
+    if scale == 0.0:
+        raise ValueError("ends: every sweep's end points coincide; the response is undefined")
+    return float(np.sum(requested * moved) / scale)
 
 
 # ---------------------------------------------------------------------------------------------- modes scored
