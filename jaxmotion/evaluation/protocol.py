@@ -11,8 +11,14 @@ and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part o
   HumanAct12, 200 UESTC) against N class-balanced real windows per class, and n-APD (``n_apd``: each
   set's per-class APD over that of the repetition's reference real draw, ×100; the real windows are in
   the recogniser's frame, canonical or not, and generated motions as the sampler gives them).
-* ActFormer (:meth:`ProtocolConfig.actformer`): 100 generated motions per class; it reports one set, no
-  repetitions (``repetitions=1``).
+* ActFormer (:meth:`ProtocolConfig.actformer`): 100 generated motions per class against a fixed real
+  reference, the train split cut into non-overlapping windows (``reference="tiles"``, 64 frames as the
+  code; the paper's "all 60 frames": ``reference_window=60``); accuracy is the mean per-class recall
+  (``accuracy="class_mean"``), and besides the whole-set FID (FID_w) the mean of the per-class FIDs
+  (``class_fid``: ``FIDm_<name>``); for several persons, FID_a from a one-person recogniser's features
+  max-pooled over the persons (``evaluate(..., person_recognizer=...)``: ``FIDa_<name>``, and
+  ``FIDam_<name>`` per class). The paper reports one set (``repetitions=1``); repetitions redraw the
+  generated motions and the Real row's windows against the same reference.
 
 The "Real" row is computed the same way as a generator's: a second, independent draw of the reference
 real set (ACTOR's "gt2") plays the generator's part, so its FID measures how far two real samples lie
@@ -34,7 +40,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -42,11 +48,11 @@ import numpy as np
 from jax.sharding import Mesh
 
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks
+from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks, tiled_windows
 from jaxmotion.metrics.apd import n_apd
-from jaxmotion.metrics.classification import accuracy, confusion_matrix
+from jaxmotion.metrics.classification import accuracy, confusion_matrix, mean_class_recall
 from jaxmotion.metrics.diversity import diversity, multimodality
-from jaxmotion.metrics.fid import fid
+from jaxmotion.metrics.fid import aggregate_persons, fid, fid_class_mean
 from jaxmotion.models.recognition import Recognizer
 
 Motions = Mapping[str, Any]
@@ -61,6 +67,10 @@ class ProtocolConfig:
     ``per_class`` (``per_class`` generated motions and real windows per class). ``duration``: frames of
     generated motions and real windows. ``chunk``: sequences generated per sampler call. ``n_apd``: also
     score ODMO's n-APD (:func:`jaxmotion.metrics.apd.n_apd`) against the reference real draw.
+    ``accuracy``: ``overall`` (correct / all: ACTOR, ODMO) or ``class_mean`` (mean per-class recall:
+    ActFormer). ``class_fid``: also the mean of the per-class FIDs (``FIDm_<name>``). ``reference``:
+    ``draw`` (each repetition draws the real sets as ``sampling`` says) or ``tiles`` (ActFormer: every clip
+    cut into non-overlapping windows of ``reference_window`` frames, once; generated motions per class).
     """
 
     repetitions: int = 20
@@ -72,12 +82,22 @@ class ProtocolConfig:
     multimodality_pairs: int = 20
     chunk: int = 500
     n_apd: bool = False
+    accuracy: Literal["overall", "class_mean"] = "overall"
+    class_fid: bool = False
+    reference: Literal["draw", "tiles"] = "draw"
+    reference_window: int = 64
 
     def __post_init__(self):
         for name in ("repetitions", "max_real", "per_class", "duration", "diversity_pairs", "multimodality_pairs",
-                     "chunk"):
+                     "chunk", "reference_window"):
             if getattr(self, name) < 1:
                 raise ValueError(f"ProtocolConfig.{name} must be >= 1, got {getattr(self, name)}")
+        for name, allowed in (("sampling", ("per_real_clip", "per_class")), ("accuracy", ("overall", "class_mean")),
+                              ("reference", ("draw", "tiles"))):
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"ProtocolConfig.{name}: expected one of {allowed}, got {getattr(self, name)!r}")
+        if self.reference == "tiles" and self.sampling != "per_class":
+            raise ValueError("ProtocolConfig.reference: 'tiles' generates per class; set sampling='per_class'")
 
     @classmethod
     def actor(cls) -> ProtocolConfig:
@@ -88,8 +108,9 @@ class ProtocolConfig:
         return cls(repetitions=10, sampling="per_class", per_class=per_class, n_apd=True)
 
     @classmethod
-    def actformer(cls) -> ProtocolConfig:
-        return cls(repetitions=1, sampling="per_class", per_class=100)
+    def actformer(cls, repetitions: int = 1) -> ProtocolConfig:
+        return cls(repetitions=repetitions, sampling="per_class", per_class=100, accuracy="class_mean",
+                   class_fid=True, reference="tiles")
 
 
 def real_windows(data: MotionDataset, key: jax.Array, config: ProtocolConfig, canonical: bool) -> dict[str, np.ndarray]:
@@ -120,26 +141,72 @@ def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: in
     return map_in_chunks(sample, np.asarray(actions, np.int32), chunk, mesh=mesh)
 
 
+class Reference(NamedTuple):
+    """A real set's recogniser features ``[M, D]``, their ``actions [M]``, and for FID_a the one-person
+    recogniser's features max-pooled over persons ``[M, D']`` (``None`` without one)."""
+
+    features: jax.Array
+    actions: jax.Array
+    person_features: jax.Array | None = None
+
+
+def person_features(recognizer: Recognizer, motions: Motions) -> jax.Array:
+    """FID_a's features: each person of ``motions`` (``joints [N, P, T, J, 3]``, and ``translation`` /
+    ``rotations`` alike) through a one-person ``recognizer``, channel-wise max over the persons -> ``[N, D]``."""
+    joints = np.asarray(motions["joints"])
+    if joints.ndim != 5:
+        raise ValueError(f"motions['joints']: FID_a needs motions of several persons [N, P, T, J, 3], got "
+                         f"shape {joints.shape}")
+    n, p = joints.shape[:2]
+    rows = {k: np.asarray(motions[k]).reshape(n * p, *np.shape(motions[k])[2:])
+            for k in ("joints", "translation", "rotations") if motions.get(k) is not None}
+    if motions.get("lengths") is not None:
+        rows["lengths"] = np.repeat(np.asarray(motions["lengths"]), p)
+    _, features = recognizer(rows)
+    return aggregate_persons(jnp.reshape(features, (n, p, -1)))
+
+
+def reference_features(recognizer: Recognizer, motions: Motions, person_recognizer: Recognizer | None = None
+                       ) -> Reference:
+    """A real set's :class:`Reference` (``motions``: a batch dict with ``actions``)."""
+    pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
+    return Reference(recognizer(motions)[1], jnp.asarray(motions["actions"]), pooled)
+
+
 def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,
-          references: Mapping[str, jax.Array], config: ProtocolConfig, real: Motions | None = None) -> dict[str, float]:
-    """The metrics of one set of motions made for ``actions [N]``: accuracy, ``FID_<name>`` against each
-    named reference feature set ``[M, D]``, diversity, multimodality, and with ``config.n_apd`` the n-APD
-    against the ``real`` motions (a batch dict with ``joints`` and ``actions``)."""
+          references: Mapping[str, Reference], config: ProtocolConfig, real: Motions | None = None,
+          person_recognizer: Recognizer | None = None) -> dict[str, float]:
+    """The metrics of one set of motions made for ``actions [N]``: accuracy (``config.accuracy``),
+    ``FID_<name>`` against each named :class:`Reference`, with ``config.class_fid`` the class-mean
+    ``FIDm_<name>``, with a ``person_recognizer`` FID_a (``FIDa_<name>``, ``FIDam_<name>`` per class), then
+    diversity, multimodality, and with ``config.n_apd`` the n-APD against the ``real`` motions (a batch dict
+    with ``joints`` and ``actions``)."""
     logits, features = recognizer(motions)
     actions = jnp.asarray(actions)
-    confusion = confusion_matrix(actions, jnp.argmax(logits, -1), recognizer.num_classes)
+    classes = recognizer.num_classes
+    confusion = confusion_matrix(actions, jnp.argmax(logits, -1), classes)
     k_div, k_mm = jax.random.split(key)
-    out = {"accuracy": float(accuracy(confusion))}
+    out = {"accuracy": float((mean_class_recall if config.accuracy == "class_mean" else accuracy)(confusion))}
+    pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
     for name, reference in references.items():
-        out[f"FID_{name}"] = float(fid(features, reference))
+        out[f"FID_{name}"] = float(fid(features, reference.features))
+        if config.class_fid:
+            out[f"FIDm_{name}"] = float(fid_class_mean(features, actions, reference.features, reference.actions,
+                                                       classes))
+        if pooled is not None:
+            if reference.person_features is None:
+                raise ValueError(f"references[{name!r}]: FID_a needs the real set's person features")
+            out[f"FIDa_{name}"] = float(fid(pooled, reference.person_features))
+            if config.class_fid:
+                out[f"FIDam_{name}"] = float(fid_class_mean(pooled, actions, reference.person_features,
+                                                            reference.actions, classes))
     out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
-    out["multimodality"] = float(multimodality(k_mm, features, actions, recognizer.num_classes,
-                                               config.multimodality_pairs))
+    out["multimodality"] = float(multimodality(k_mm, features, actions, classes, config.multimodality_pairs))
     if config.n_apd:
         if real is None:
             raise ValueError("real: n-APD needs the real motions it normalises by")
         out["n_apd"] = float(n_apd(jnp.asarray(motions["joints"]), actions, jnp.asarray(real["joints"]),
-                                   jnp.asarray(real["actions"]), recognizer.num_classes))
+                                   jnp.asarray(real["actions"]), classes))
     return out
 
 
@@ -163,11 +230,15 @@ def check_evaluator(recognizer: Recognizer, real: Mapping[str, MotionDataset]) -
 
 def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer,
              real: Mapping[str, MotionDataset], config: ProtocolConfig,
-             mesh: Mesh | None = None) -> dict[str, dict[str, list[float]]]:
+             mesh: Mesh | None = None, person_recognizer: Recognizer | None = None
+             ) -> dict[str, dict[str, list[float]]]:
     """Rows ``{"Real": {metric: [R values]}, <sampler name>: {...}}`` over ``config.repetitions``.
 
     ``real``: named real sets, the first being the reference (labels, accuracy, the Real row). Every
-    sampler is scored against the same real draws in a repetition. Repetition r uses ``fold_in(key, r)``.
+    sampler is scored against the same real draws in a repetition (with ``config.reference="tiles"``, the
+    same tiled windows in all: each class present gets ``config.per_class`` generated motions, and the Real
+    row is a class-balanced draw of the reference set's windows). Repetition r uses ``fold_in(key, r)``.
+    ``person_recognizer``: a one-person recogniser for FID_a on motions of several persons.
     ``mesh``: generation and the recogniser's passes split their chunks over a
     data mesh's devices (same numbers up to float32 sums); ``None``: one device.
     """
@@ -177,25 +248,35 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
         raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
     check_real_sets(real, config)
     check_evaluator(recognizer, real)
-    if mesh is not None and recognizer.mesh is None:
-        recognizer = dataclasses.replace(recognizer, mesh=mesh)
+    if mesh is not None:
+        recognizer = recognizer if recognizer.mesh is not None else dataclasses.replace(recognizer, mesh=mesh)
+        if person_recognizer is not None and person_recognizer.mesh is None:
+            person_recognizer = dataclasses.replace(person_recognizer, mesh=mesh)
     canonical = recognizer.config.canonical
     rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
     reference_name = next(iter(real))
+    tiles = config.reference == "tiles"
+    if tiles:
+        draws = {name: tiled_windows(data, config.reference_window) for name, data in real.items()}
+        references = {name: reference_features(recognizer, draw, person_recognizer) for name, draw in draws.items()}
+        present = np.unique(draws[reference_name]["actions"])
+        actions = np.repeat(present, config.per_class).astype(np.int32)
     for r in range(config.repetitions):
         k_real, k_again, k_score, k_generate = jax.random.split(jax.random.fold_in(key, r), 4)
-        draws = {name: real_windows(data, jax.random.fold_in(k_real, i), config, canonical)
-                 for i, (name, data) in enumerate(real.items())}
-        features = {name: recognizer(draw)[1] for name, draw in draws.items()}
-        actions = draws[reference_name]["actions"]
+        if not tiles:
+            draws = {name: real_windows(data, jax.random.fold_in(k_real, i), config, canonical)
+                     for i, (name, data) in enumerate(real.items())}
+            references = {name: reference_features(recognizer, draw, person_recognizer)
+                          for name, draw in draws.items()}
+            actions = draws[reference_name]["actions"]
         second = real_windows(real[reference_name], k_again, config, canonical)
         sets = {"Real": (second, second["actions"])}
         for i, (name, sampler) in enumerate(samplers.items()):
             sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
                                    config.chunk, mesh), actions)
         for i, (name, (motions, labels)) in enumerate(sets.items()):
-            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, features, config,
-                            draws[reference_name])
+            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, references, config,
+                            draws[reference_name], person_recognizer)
             for metric, value in metrics.items():
                 rows[name].setdefault(metric, []).append(value)
     return rows
