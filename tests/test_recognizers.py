@@ -100,9 +100,21 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
     with pytest.raises(ValueError, match="unknown evaluator"):
         evaluator_spec("synth-uestc/transformer", profile)
     # only the embedded-data ST-GCN is trained with input noise; the paper profile keeps the reference recipe
-    assert [s.input_noise > 0 for s in specs] == [False, False, False, profile != "paper"] + [False] * 5
+    noisy = profile != "paper"
+    assert [s.input_noise > 0 for s in specs] == [False, False, False, noisy] + [False] * 7 + [noisy, False, noisy]
     if profile == "cpu":  # the 94 and 120 classes of NTU-1P and BABEL-120 get twice the steps
-        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000]
+        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000]
+    # ActFormer's: its representations, trained on the other split; the pair stacked on channels, permuted
+    actformer = specs[9:]
+    assert [s.recognizer.inputs for s in actformer] == ["limbs", "limbs", "rot6d+translation", "limbs",
+                                                        "rot6d+translation"]
+    assert [s.recognizer.graph_center for s in actformer] == [9, 20, 0, 20, 0]
+    assert all(s.trains_on == "held_out" and s.recognizer.dropout == 0.5 and not s.recognizer.canonical
+               for s in actformer)
+    assert [(s.recognizer.persons, s.permute_persons, s.window) for s in actformer] == (
+        [("average", False, 64)] * 3 + [("channels", True, 60), ("average", False, 64)])
+    if profile == "paper":
+        assert all(s.optimizer == "sgd" and s.learning_rate == 0.1 for s in actformer)
 
 
 def test_negative_input_noise_is_refused():
@@ -280,3 +292,50 @@ def test_actformer_representations_feed_the_st_gcn(windows, two_person_windows):
     assert recognizer(windows)[0].shape == (12, 12)
     with pytest.raises(ValueError, match=r"reads rot6d\+translation and needs axis-angle rotations"):
         recognizer_inputs(smpl, SMPL24, {"joints": windows["joints"]})
+
+
+def test_stacked_persons_are_read_in_order_and_averaged_ones_are_not(two_person_windows):
+    """ActFormer's two-person evaluator stacks the pair's channels (P·C in), so swapping them matters."""
+    stacked = RecognizerConfig(architecture="stgcn", inputs="joints", canonical=False, channels=(8, 16),
+                               strides=(1, 2), persons="channels")
+    recognizer = _untrained_ntu(stacked, persons=2)
+    w = two_person_windows
+    swapped = {k: np.ascontiguousarray(w[k][:, ::-1]) for k in ("joints", "translation")}
+    assert not np.allclose(np.asarray(recognizer(swapped)[0]), np.asarray(recognizer(w)[0]), atol=1e-3)
+    averaged = _untrained_ntu(dataclasses.replace(stacked, persons="average"), persons=2)
+    np.testing.assert_allclose(np.asarray(averaged(swapped)[0]), np.asarray(averaged(w)[0]), atol=2e-4)
+    with pytest.raises(ValueError, match="RecognizerConfig.persons"):
+        dataclasses.replace(stacked, persons="max")
+
+
+def test_an_evaluator_trained_on_the_other_split_is_checked_on_the_train_split():
+    spec = dataclasses.replace(evaluator_spec("synth-humanact12/gru", "smoke"), trains_on="held_out")
+    train, held_out = recognizers.training_data(spec), recognizers.held_out_data(spec)
+    np.testing.assert_array_equal(train.joints, load_dataset("synth-humanact12", seed=1, count=120).joints)
+    np.testing.assert_array_equal(held_out.joints, load_dataset("synth-humanact12", count=120).joints)
+    with pytest.raises(ValueError, match="trains_on"):
+        dataclasses.replace(spec, trains_on="test")
+
+
+def test_sgd_recipe_is_nesterov_with_the_decay_in_the_gradient_and_step_drops():
+    """Two steps on f(w) = w²/2 (gradient w) by hand, as PyTorch's SGD(nesterov=True, weight_decay)."""
+    spec = dataclasses.replace(evaluator_spec("synth-ntu1p/stgcn", "paper"), learning_rate=0.1, weight_decay=0.5,
+                               decay_steps=(1,))
+    tx = recognizers.recognizer_optimizer(spec)
+    w, state = jnp.array(2.0), tx.init(jnp.array(2.0))
+    expected, buf = 2.0, 0.0
+    for lr in (0.1, 0.01):
+        g = expected + 0.5 * expected
+        buf = 0.9 * buf + g
+        expected -= lr * (g + 0.9 * buf)
+        update, state = tx.update(w, state, w)
+        w = w + update
+        assert float(w) == pytest.approx(expected, rel=1e-6)
+    with pytest.raises(ValueError, match="optimizer"):
+        dataclasses.replace(spec, optimizer="rmsprop")
+
+
+def test_the_fields_added_later_leave_older_cache_keys_alone(tmp_path):
+    spec = evaluator_spec("synth-humanact12/gru", "smoke")
+    assert "trains_on" not in recognizers._cache_spec(spec) and "persons" not in recognizers._cache_spec(spec)["recognizer"]
+    assert cache_folder(dataclasses.replace(spec, trains_on="held_out"), tmp_path) != cache_folder(spec, tmp_path)

@@ -67,6 +67,12 @@ class RecognizerTraining:
     and its hands and feet never turn, so without it a third of the ST-GCN's rot6d channels have zero
     variance, its input BatchNorm divides them by sqrt(1e-5), and a generator's smallest error there
     outweighs the whole motion. Real estimates (VIBE) have noise in every channel.
+    ``trains_on``: ``train`` (the train split, held out the other) or ``held_out`` (ActFormer's rule: the
+    evaluator learns on the other split, NTU's xsub test or BABEL's val, and is checked on the train split
+    whose windows are the generators' reference). ``permute_persons``: shuffle the persons of every training
+    window (ActFormer's two-person evaluator, which reads them in order). ``optimizer``: ``adam`` (AdamW
+    with ``weight_decay``) or ``sgd`` (ActFormer's recognition recipe: SGD with Nesterov momentum 0.9, the
+    weight decay added to the gradient, ``learning_rate`` times 0.1 at each of ``decay_steps``).
     """
 
     dataset: str
@@ -82,9 +88,17 @@ class RecognizerTraining:
     test_count: int | None = 3000
     seed: int = 0
     input_noise: float = 0.0
+    trains_on: str = "train"
+    permute_persons: bool = False
+    optimizer: str = "adam"
+    decay_steps: tuple[int, ...] = ()
 
     def __post_init__(self):
         check_dataset_name(self.dataset, "RecognizerTraining.dataset")
+        if self.trains_on not in ("train", "held_out"):
+            raise ValueError(f"RecognizerTraining.trains_on: expected 'train' or 'held_out', got {self.trains_on!r}")
+        if self.optimizer not in ("adam", "sgd"):
+            raise ValueError(f"RecognizerTraining.optimizer: expected 'adam' or 'sgd', got {self.optimizer!r}")
         if self.loop.steps < 1 or self.batch_size < 1 or self.window < 1:
             raise ValueError(f"RecognizerTraining: loop.steps, batch_size and window must be >= 1 "
                              f"(got {self.loop.steps}, {self.batch_size}, {self.window})")
@@ -98,7 +112,19 @@ class RecognizerTraining:
 
 #: The papers' evaluators on the embedded data, by name.
 EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru",
-              "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru")
+              "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru",
+              "synth-ntu13/stgcn", "synth-ntu1p/stgcn", "synth-ntu1p-smpl/stgcn", "synth-ntu2p/stgcn",
+              "synth-babel120/stgcn")
+
+#: ActFormer's evaluators (FACTS 5): ST-GCN on its representation (inputs, graph centre), trained on the other
+#: split. NTU-25 limbs centred on the spine shoulder (20); SMPL rotations + the translation node centred on the
+#: pelvis (the code's ``smpl`` layout); the NTU-13 stand-in (SMPL-24 joints) as limbs, centred on spine3 (9),
+#: the nearest SMPL joint to NTU's spine shoulder; two persons stacked on channels, their order permuted in
+#: training (the paper's augmentation).
+ACTFORMER_EVALUATORS = {"synth-ntu13": ("limbs", 9, "average"), "synth-ntu1p": ("limbs", 20, "average"),
+                        "synth-ntu1p-smpl": ("rot6d+translation", 0, "average"),
+                        "synth-babel120": ("rot6d+translation", 0, "average"),
+                        "synth-ntu2p": ("limbs", 20, "channels")}
 
 # cpu: sized to reach >= 95% held-out accuracy on a 2-core CPU in minutes. ST-GCN keeps the reference's
 # block design and graph, with 3 blocks of 16-64 channels instead of 10 of 64-256 (about 1/60 of the work).
@@ -119,6 +145,8 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     if profile not in cfglib.PROFILES:
         raise ValueError(f"profile: expected one of {', '.join(cfglib.PROFILES)}, got {profile!r}")
     dataset, architecture = name.split("/")
+    if architecture == "stgcn" and dataset in ACTFORMER_EVALUATORS:
+        return _actformer_spec(dataset, profile)
     odmo = dataset == "synth-uestc" and architecture == "gru"
     window = 100 if dataset == "synth-cmu" else 60
     if profile == "smoke":
@@ -144,14 +172,56 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     return RecognizerTraining(dataset, net, _loop(16_700), learning_rate=1e-4, window=window)
 
 
+def _actformer_spec(dataset: str, profile: str) -> RecognizerTraining:
+    """ActFormer's evaluator for ``dataset``: windows of 64 frames (two persons: 60), as the code's feeders;
+    paper, its recipe (the full ST-GCN, SGD Nesterov 0.1, x0.1 after epochs 10 and 50, weight decay 1e-4,
+    batch 64, 80 epochs of the embedded split: set ``loop`` to 80 epochs of a real one); cpu, 3 blocks of
+    16-64 channels with Adam, twice the steps for more than 50 classes; smoke, a few steps."""
+    inputs, center, persons = ACTFORMER_EVALUATORS[dataset]
+    two = persons == "channels"
+    full = RecognizerConfig.actformer_stgcn(inputs, center, persons)
+    # the SMPL stand-ins' hinge joints (see RecognizerTraining.input_noise); the paper recipe has none
+    noise = _STGCN_NOISE if inputs.startswith("rot6d") and profile != "paper" else 0.0
+    common = dict(window=60 if two else 64, trains_on="held_out", permute_persons=two, input_noise=noise)
+    if profile == "smoke":
+        net = dataclasses.replace(full, channels=(8, 16), strides=(1, 2))
+        return RecognizerTraining(dataset, net, _loop(20, log_every=10, checkpoint_every=20), batch_size=16,
+                                  count=120, test_count=60, **common)
+    if profile == "cpu":
+        net = dataclasses.replace(full, channels=_CPU_STGCN.channels, strides=_CPU_STGCN.strides)
+        many = len(synthetic.VARIANTS[dataset].classes) > 50
+        return RecognizerTraining(dataset, net, _loop(3000 if many else 1500), batch_size=32, learning_rate=1e-3,
+                                  weight_decay=1e-4, **common)
+    other = [s for s in ("test", "val") if s in synthetic.VARIANTS[dataset].splits]
+    clips = synthetic.VARIANTS[dataset].splits[(other or ["train"])[0]].num_sequences
+    per_epoch = -(-clips // 64)
+    return RecognizerTraining(dataset, full, _loop(80 * per_epoch), batch_size=64, learning_rate=0.1,
+                              weight_decay=1e-4, optimizer="sgd", decay_steps=(10 * per_epoch, 50 * per_epoch),
+                              **common)
+
+
 # --- data ------------------------------------------------------------------------------------------
 
 
 def training_data(spec: RecognizerTraining, data_root: str | None = None) -> MotionDataset:
-    return load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count)
+    """What the evaluator learns on: the train split, or with ``trains_on="held_out"`` the other one."""
+    if spec.trains_on == "held_out":
+        return _other_split(spec, data_root)
+    return _train_split(spec, data_root)
 
 
 def held_out_data(spec: RecognizerTraining, data_root: str | None = None) -> MotionDataset:
+    """What the evaluator is checked on: the split :func:`training_data` does not use."""
+    if spec.trains_on == "held_out":
+        return _train_split(spec, data_root)
+    return _other_split(spec, data_root)
+
+
+def _train_split(spec: RecognizerTraining, data_root: str | None) -> MotionDataset:
+    return load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count)
+
+
+def _other_split(spec: RecognizerTraining, data_root: str | None) -> MotionDataset:
     """The dataset's test (or val) split, or for embedded datasets without one, a fresh draw with
     ``test_data_seed``."""
     if spec.dataset in synthetic.VARIANTS:
@@ -163,7 +233,8 @@ def held_out_data(spec: RecognizerTraining, data_root: str | None = None) -> Mot
 
 
 def _batch_spec(spec: RecognizerTraining, canonical: bool) -> BatchSpec:
-    return BatchSpec(batch_size=spec.batch_size, window=spec.window, canonical=canonical)
+    return BatchSpec(batch_size=spec.batch_size, window=spec.window, canonical=canonical,
+                     permute_persons=spec.permute_persons)
 
 
 # --- training --------------------------------------------------------------------------------------
@@ -212,10 +283,20 @@ def train_recognizer(spec: RecognizerTraining, workdir: str | Path | None, *, da
 def _initial_state(spec: RecognizerTraining, key: jax.Array, skeleton: Skeleton, num_classes: int,
                    persons: int = 1) -> RecognizerState:
     variables = init_recognizer(key, spec.recognizer, skeleton, num_classes, spec.window, persons)
-    tx = (optax.adamw(spec.learning_rate, weight_decay=spec.weight_decay) if spec.weight_decay
-          else optax.adam(spec.learning_rate))
+    tx = recognizer_optimizer(spec)
     return RecognizerState.create(apply_fn=None, params=variables["params"], tx=tx,
                                   batch_stats=variables.get("batch_stats", {}))
+
+
+def recognizer_optimizer(spec: RecognizerTraining) -> optax.GradientTransformation:
+    """The optimiser ``spec`` names (see :class:`RecognizerTraining`)."""
+    if spec.optimizer == "sgd":
+        rate = optax.piecewise_constant_schedule(spec.learning_rate, {int(s): 0.1 for s in spec.decay_steps})
+        # PyTorch's SGD: the decay joins the gradient before the momentum
+        return optax.chain(optax.add_decayed_weights(spec.weight_decay), optax.sgd(rate, momentum=0.9, nesterov=True))
+    if spec.weight_decay:
+        return optax.adamw(spec.learning_rate, weight_decay=spec.weight_decay)
+    return optax.adam(spec.learning_rate)
 
 
 def _recognizer(spec: RecognizerTraining, skeleton: Skeleton, class_names: tuple[str, ...],
@@ -248,10 +329,28 @@ def cache_folder(spec: RecognizerTraining, cache_dir: str | Path | None = None, 
     """Where the evaluator ``spec`` is kept. The hash covers the spec, what it trains on (embedded data: the
     generator version; real data: the folder's resolved path and a manifest of its files) and what else
     changes the trained weights (:func:`training_machine`)."""
-    text = json.dumps({"spec": cfglib.to_dict(spec), "source": data_source(spec.dataset, data_root),
+    text = json.dumps({"spec": _cache_spec(spec), "source": data_source(spec.dataset, data_root),
                        "machine": training_machine(), "version": CACHE_VERSION}, sort_keys=True)
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
     return cache_root(cache_dir) / "recognizers" / f"{spec.dataset}-{spec.recognizer.architecture}-{digest}"
+
+
+# Fields added after evaluators were first cached, with their defaults: at those values they stay out of the
+# cache key, so the evaluators trained before they existed are found again.
+_LATER_FIELDS = {("trains_on",): "train", ("permute_persons",): False, ("optimizer",): "adam", ("decay_steps",): [],
+                 ("recognizer", "persons"): "average"}
+
+
+def _cache_spec(spec: RecognizerTraining) -> dict[str, Any]:
+    out = cfglib.to_dict(spec)
+    for path, default in _LATER_FIELDS.items():
+        *parents, name = path
+        holder = out
+        for parent in parents:
+            holder = holder[parent]
+        if holder.get(name) == default:
+            del holder[name]
+    return out
 
 
 def data_source(dataset: str, data_root: str | Path | None) -> dict[str, Any]:

@@ -125,7 +125,10 @@ class RecognizerConfig:
     and ``rot6d+translation`` (rot6d, then the translation de-meaned over the clip as one more node, parent 0:
     ActFormer's SMPL-25). ``canonical``: move every motion to the canonical frame first (needs a skeleton with
     ``left_hip``/``right_hip``). ``graph_center``: the ST-GCN partition's centre joint (ACTOR: the root;
-    ActFormer's ``ntu-rgb+d`` layout: 20, the spine shoulder).
+    ActFormer's ``ntu-rgb+d`` layout: 20, the spine shoulder). ``persons``: how the ST-GCN reads motions of
+    several persons: ``average`` (ST-GCN's own rule: shared weights, features averaged over persons) or
+    ``channels`` (ActFormer's two-person evaluator: the persons' channels stacked per joint, ``P·C`` in,
+    so the order of persons matters and training permutes them).
     """
 
     architecture: Literal["gru", "stgcn"] = "gru"
@@ -139,8 +142,11 @@ class RecognizerConfig:
     strides: tuple[int, ...] = (1, 1, 1, 1, 2, 1, 1, 2, 1, 1)
     temporal_kernel: int = 9
     dropout: float = 0.0
+    persons: Literal["average", "channels"] = "average"
 
     def __post_init__(self):
+        if self.persons not in ("average", "channels"):
+            raise ValueError(f"RecognizerConfig.persons: expected 'average' or 'channels', got {self.persons!r}")
         if len(self.channels) != len(self.strides) or not self.channels:
             raise ValueError(f"RecognizerConfig: channels ({len(self.channels)}) and strides "
                              f"({len(self.strides)}) need one entry per ST-GCN block")
@@ -163,10 +169,11 @@ class RecognizerConfig:
         return cls(architecture="stgcn", inputs="rot6d")
 
     @classmethod
-    def actformer_stgcn(cls, inputs: str, graph_center: int = 0) -> RecognizerConfig:
+    def actformer_stgcn(cls, inputs: str, graph_center: int = 0, persons: str = "average") -> RecognizerConfig:
         """ActFormer's evaluators (FACTS 5): the same ST-GCN with dropout 0.5 on its own representation, in the
-        data's frame (no canonical turn)."""
-        return cls(architecture="stgcn", inputs=inputs, canonical=False, graph_center=graph_center, dropout=0.5)
+        data's frame (no canonical turn); its two-person one reads the persons stacked on channels."""
+        return cls(architecture="stgcn", inputs=inputs, canonical=False, graph_center=graph_center, dropout=0.5,
+                   persons=persons)
 
     @property
     def channels_in(self) -> int:
@@ -237,11 +244,14 @@ def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton
     """Fresh variables ``{"params": ..., ["batch_stats": ...]}``; no size depends on ``frames`` (kept so
     every architecture's init has one signature). ``persons``: P of the motions it will read; the GRU reads
     every person's joints in each frame (its input grows with P), the ST-GCN shares its weights across
-    persons and averages their features (ST-GCN's own rule), so its size does not depend on P."""
+    persons and averages their features (ST-GCN's own rule), so its size does not depend on P, unless it
+    stacks the persons on channels (``config.persons="channels"``: P·C input channels)."""
     channels, nodes = config.channels_in, len(recognizer_parents(config, skeleton))
     if config.architecture == "gru":
         return {"params": init_gru_recognizer(key, persons * nodes * channels, num_classes, config.hidden,
                                               config.layers, config.feature_dim)}
+    if config.persons == "channels":
+        channels *= persons
     params, stats = init_stgcn(key, _stgcn_graph(config, skeleton), channels, num_classes, channels=config.channels,
                                strides=config.strides, temporal_kernel=config.temporal_kernel)
     return {"params": params, "batch_stats": stats}
@@ -251,7 +261,8 @@ def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: 
                      x: jax.Array, lengths: jax.Array | None = None, *, train: bool = False,
                      key: jax.Array | None = None) -> tuple[tuple[jax.Array, jax.Array], dict[str, Any]]:
     """``x [B, T, J, C]`` or ``[B, P, T, J, C]`` (from :func:`recognizer_inputs`) -> ``((logits [B, K],
-    features [B, D]), updates)``; the GRU reads the persons of a frame side by side, in their order.
+    features [B, D]), updates)``; the GRU reads the persons of a frame side by side, in their order, the
+    ST-GCN averages them or stacks their channels (``config.persons``).
 
     ``lengths [B]``: the GRU reads each sequence at its last real frame (the ST-GCN pools over all frames,
     as the reference, whose padding repeats the last frame). ``train``: ST-GCN batch statistics from the
@@ -262,6 +273,8 @@ def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: 
             x = jnp.moveaxis(x, 1, 2)
         outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
         return outputs, {}
+    if x.ndim == 5 and config.persons == "channels":  # [B, P, T, J, C] -> [B, T, J, P·C], person-major
+        x = jnp.moveaxis(x, 1, -2).reshape(*x.shape[:1], *x.shape[2:4], -1)
     outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(config, skeleton),
                            strides=config.strides, train=train, dropout_rate=config.dropout, dropout_key=key)
     return outputs, ({"batch_stats": stats} if train else {})
