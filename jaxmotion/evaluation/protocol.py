@@ -248,10 +248,10 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
         raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
     check_real_sets(real, config)
     check_evaluator(recognizer, real)
-    if mesh is not None:
-        recognizer = recognizer if recognizer.mesh is not None else dataclasses.replace(recognizer, mesh=mesh)
-        if person_recognizer is not None and person_recognizer.mesh is None:
-            person_recognizer = dataclasses.replace(person_recognizer, mesh=mesh)
+    def on_mesh(r: Recognizer | None) -> Recognizer | None:
+        return r if mesh is None or r is None or r.mesh is not None else dataclasses.replace(r, mesh=mesh)
+
+    recognizer, person_recognizer = on_mesh(recognizer), on_mesh(person_recognizer)
     canonical = recognizer.config.canonical
     rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
     reference_name = next(iter(real))

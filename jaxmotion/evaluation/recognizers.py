@@ -26,7 +26,7 @@ import json
 import os
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import jax
 import jax.numpy as jnp
@@ -88,9 +88,9 @@ class RecognizerTraining:
     test_count: int | None = 3000
     seed: int = 0
     input_noise: float = 0.0
-    trains_on: str = "train"
+    trains_on: Literal["train", "held_out"] = "train"
     permute_persons: bool = False
-    optimizer: str = "adam"
+    optimizer: Literal["adam", "sgd"] = "adam"
     decay_steps: tuple[int, ...] = ()
 
     def __post_init__(self):
@@ -192,8 +192,8 @@ def _actformer_spec(dataset: str, profile: str) -> RecognizerTraining:
         many = len(synthetic.VARIANTS[dataset].classes) > 50
         return RecognizerTraining(dataset, net, _loop(3000 if many else 1500), batch_size=32, learning_rate=1e-3,
                                   weight_decay=1e-4, **common)
-    other = [s for s in ("test", "val") if s in synthetic.VARIANTS[dataset].splits]
-    clips = synthetic.VARIANTS[dataset].splits[(other or ["train"])[0]].num_sequences
+    # without a held-out split the other set is a train-sized draw with another seed
+    clips = synthetic.VARIANTS[dataset].splits[embedded_held_out_split(dataset) or "train"].num_sequences
     per_epoch = -(-clips // 64)
     return RecognizerTraining(dataset, full, _loop(80 * per_epoch), batch_size=64, learning_rate=0.1,
                               weight_decay=1e-4, optimizer="sgd", decay_steps=(10 * per_epoch, 50 * per_epoch),
@@ -221,13 +221,18 @@ def _train_split(spec: RecognizerTraining, data_root: str | None) -> MotionDatas
     return load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count)
 
 
+def embedded_held_out_split(dataset: str) -> str | None:
+    """The embedded ``dataset``'s held-out split (``test``, else ``val``), ``None`` if it has only ``train``."""
+    return next((s for s in ("test", "val") if s in synthetic.VARIANTS[dataset].splits), None)
+
+
 def _other_split(spec: RecognizerTraining, data_root: str | None) -> MotionDataset:
     """The dataset's test (or val) split, or for embedded datasets without one, a fresh draw with
     ``test_data_seed``."""
     if spec.dataset in synthetic.VARIANTS:
-        held_out = [s for s in ("test", "val") if s in synthetic.VARIANTS[spec.dataset].splits]
-        if held_out:
-            return load_dataset(spec.dataset, held_out[0], seed=spec.data_seed, count=spec.count)
+        split = embedded_held_out_split(spec.dataset)
+        if split is not None:
+            return load_dataset(spec.dataset, split, seed=spec.data_seed, count=spec.count)
         return load_dataset(spec.dataset, "train", seed=spec.test_data_seed, count=spec.count)
     return load_dataset(spec.dataset, "test", data_root=data_root, count=spec.count)
 
