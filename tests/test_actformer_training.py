@@ -4,7 +4,6 @@ then one generator update, spectral-norm buffers moving, determinism, and both l
 import dataclasses
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -12,7 +11,8 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.geometry.skeletons import NTU25
 from jaxmotion.models.actformer import GeneratorConfig
-from jaxmotion.train.actformer import ActFormerTraining, critic_graphs, real_batches, sample, train_actformer
+from jaxmotion.pipelines.actformer import ActFormerFit, data_bone_lengths, generate_motions
+from jaxmotion.train.actformer import ActFormerTraining, critic_graphs, real_batches, train_actformer
 from jaxmotion.train.loop import LoopConfig
 
 
@@ -62,8 +62,9 @@ def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, 
                                           else fresh.buffers[name].embedding.u))
     log = (tmp_path / "a" / "metrics.jsonl").read_text().splitlines()
     assert len(log) == 2 and all("critic_loss" in line and "generator_loss" in line for line in log)
-    motion = sample(training, first, jax.random.key(2), jnp.arange(3))
-    assert motion.shape == (3, 2, 16, 25, 3) and np.isfinite(motion).all()
+    motions = generate_motions(ActFormerFit(first, data_bone_lengths(pairs)), training, jax.random.key(2),
+                               np.arange(3), pairs.skeleton)
+    assert motions["joints"].shape == (3, 2, 16, 25, 3) and np.isfinite(motions["joints"]).all()
 
 
 def test_mismatched_data_is_refused(pairs):

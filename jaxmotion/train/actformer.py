@@ -17,6 +17,10 @@ vectors) or ``smpl`` (rot6d of 24 joints + the translation de-meaned over the wi
 code's persons stay in their stored order (the datasets hold swapped copies); ``permute_persons`` shuffles them
 per window, the paper's choice. ``sampling="sqrt"``: BABEL's square-root class resampling.
 
+As a table row (:class:`~jaxmotion.evaluation.tables.Recipe`): ``fit`` returns an
+:class:`~jaxmotion.pipelines.actformer.ActFormerFit`, ``sampler`` the protocol's sampler
+(:mod:`jaxmotion.pipelines.actformer`).
+
 Axes: N critic steps, B batch, P persons, T frames, V joints, C channels.
 """
 
@@ -28,16 +32,17 @@ from typing import Any, Literal
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 import optax
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, Sampling
 from jaxmotion.geometry.representations import actformer_features
+from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
 from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
 from jaxmotion.nn.graph_coarsening import critic_adjacency
+from jaxmotion.pipelines.actformer import ActFormerFit, actformer_sampler, data_bone_lengths
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.state import MultiState
@@ -81,6 +86,13 @@ class ActFormerTraining:
         """All ``n_critic`` real batches of a step drawn at once (split by :func:`real_batches`)."""
         return BatchSpec(batch_size=self.n_critic * self.batch_size, window=self.generator.frames, padding="snake",
                          canonical=False, sampling=self.sampling, permute_persons=self.permute_persons)
+
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options
+            ) -> ActFormerFit:
+        return ActFormerFit(train_actformer(data, self, key, workdir, **loop_options), data_bone_lengths(data))
+
+    def sampler(self, trained: ActFormerFit, skeleton: Skeleton):
+        return actformer_sampler(trained, self, skeleton)
 
 
 def latent_factors(training: ActFormerTraining) -> jax.Array:
@@ -196,10 +208,3 @@ def train_actformer(data: MotionDataset, training: ActFormerTraining, key: jax.A
                step_fn=actformer_step(training, graphs, parents), batch=training.batch, loop=training.loop,
                workdir=workdir, progress=progress, **loop_options)
 
-
-def sample(training: ActFormerTraining, state: MultiState, key: jax.Array, labels: jax.Array) -> np.ndarray:
-    """Generated motions for ``labels [B]`` (evaluation mode: the stored power-iteration vectors)."""
-    factors = latent_factors(training)
-    z = sample_latents(training, factors, key, labels.shape[0])
-    motion, _ = generate(training.generator, state.params["generator"], state.buffers["generator"], z, labels)
-    return np.asarray(motion)
