@@ -11,7 +11,7 @@ it and the protocol against the data first) and :func:`score_rows` scores the sa
 
 Rows come back in the protocol's metric names (``accuracy``, ``FID_train``, ``FID_test``, ``diversity``,
 ``multimodality``); :func:`paper_columns` renames them to a paper's columns (:data:`ACTOR_COLUMNS`,
-accuracy in %). Tables that span several datasets put them :func:`side_by_side` under dataset-prefixed
+:data:`ODMO_COLUMNS`, :data:`ACTFORMER_COLUMNS`; accuracy in %). Tables that span several datasets put them :func:`side_by_side` under dataset-prefixed
 columns (``"UESTC FID_tr"``); :func:`reported_row` lays a paper's printed numbers out the same way.
 
 The paper datasets' embedded stand-ins, with the evaluator each paper scores them with, are
@@ -33,7 +33,7 @@ import numpy as np
 from jax.sharding import Mesh
 
 from jaxmotion.data import synthetic
-from jaxmotion.data.datasets import PAPER_SIZES, check_dataset_name, load_dataset
+from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler, check_evaluator, check_real_sets, evaluate
 from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
@@ -55,14 +55,18 @@ ACTOR_COLUMNS = {"FID_train": "FID_tr", "FID_test": "FID_test", "accuracy": "Acc
 #: ... and to ODMO's (Tables 1-2; HumanAct12's and MoCap's "FID" is against the training set, FID_tr here).
 ODMO_COLUMNS = {"accuracy": "Acc", "FID_train": "FID_tr", "FID_test": "FID_test", "diversity": "Diversity",
                 "multimodality": "MModality", "n_apd": "n-APD"}
+#: ... and to ActFormer's (Tables 1-5; accuracy is its mean per-class recall, the FIDs against the train
+#: split's tiles, FID_a from the one-person recogniser max-pooled over persons).
+ACTFORMER_COLUMNS = {"accuracy": "Acc", "FIDm_train": "FID_m", "FID_train": "FID_w", "FIDam_train": "FIDa_m",
+                     "FIDa_train": "FIDa_w"}
 PERCENT = frozenset({"accuracy"})
 
 
 @dataclasses.dataclass(frozen=True)
 class StandIn:
-    """The embedded dataset standing in for a paper dataset (``label``, a key of
-    :data:`~jaxmotion.data.datasets.PAPER_SIZES`), the evaluator the papers score it with (a
-    :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name) and whether it has a test split."""
+    """The embedded dataset standing in for a paper dataset (``label``, the paper's name), the evaluator the
+    papers score it with (a :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name) and whether its
+    tables score against a test split too (``FID_test``)."""
 
     label: str
     dataset: str
@@ -71,15 +75,21 @@ class StandIn:
 
     @property
     def num_classes(self) -> int:
-        return PAPER_SIZES[self.label][0]
+        return len(synthetic.VARIANTS[self.dataset].classes)
 
 
-#: The paper datasets -> their embedded stand-ins.
+#: The paper datasets -> their embedded stand-ins: ACTOR's and ODMO's, then ActFormer's (scored by its
+#: ST-GCN evaluators against the train split only; its NTU-13 is ACTOR's stand-in with
+#: ``evaluator="synth-ntu13/stgcn"``).
 STAND_INS = {s.label: s for s in (
     StandIn("NTU-13", "synth-ntu13", "synth-ntu13/gru", False),
     StandIn("UESTC", "synth-uestc", "synth-uestc/stgcn", True),
     StandIn("HumanAct12", "synth-humanact12", "synth-humanact12/gru", False),
     StandIn("MoCap", "synth-cmu", "synth-cmu/gru", False),
+    StandIn("NTURecon-1P", "synth-ntu1p-smpl", "synth-ntu1p-smpl/stgcn", False),
+    StandIn("NTU-1P", "synth-ntu1p", "synth-ntu1p/stgcn", False),
+    StandIn("BABEL", "synth-babel120", "synth-babel120/stgcn", False),
+    StandIn("NTU-2P", "synth-ntu2p", "synth-ntu2p/stgcn", False),
 )}
 
 

@@ -34,7 +34,9 @@ from jaxmotion.train.loop import LoopConfig
 class ActorTraining:
     """How ACTOR is trained. Paper: AdamW 1e-4 (weight decay 0.01, PyTorch's default), batch 20, 60-frame
     crops; ``min_length`` set gives the variable-length fine-tuning (60-100 frames, ``window`` 100).
-    ``loop``: the number of steps and the logging / checkpoint cadence."""
+    ``loop``: the number of steps and the logging / checkpoint cadence. ``canonical``: windows turned to the
+    canonical frame (ACTOR's data); False keeps the dataset's frame (ActFormer's tables, whose evaluators read
+    the camera's frame)."""
 
     model: ActorConfig
     loop: LoopConfig
@@ -44,10 +46,12 @@ class ActorTraining:
     min_length: int | None = None
     learning_rate: float = 1e-4
     weight_decay: float = 0.01
+    canonical: bool = True
 
     @property
     def batch(self) -> BatchSpec:
-        return BatchSpec(batch_size=self.batch_size, window=self.window, min_length=self.min_length)
+        return BatchSpec(batch_size=self.batch_size, window=self.window, min_length=self.min_length,
+                         canonical=self.canonical)
 
     # as a table row (jaxmotion.evaluation.tables.Recipe)
     def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options):

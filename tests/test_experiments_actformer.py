@@ -1,0 +1,50 @@
+"""ActFormer's tables run end to end in their smoke profiles, laid out as the paper lays them out."""
+
+import numpy as np
+import pytest
+from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
+
+from experiments import actformer_single
+
+
+def _columns(label):
+    return [f"{label} {column}" for column in ("Acc", "FID_m", "FID_w")]
+
+
+@pytest.mark.slow
+def test_single_person_table_has_the_paper_rows_and_each_baseline_where_it_reads_the_data(tmp_path, monkeypatch,
+                                                                                          cache):
+    rows = _smoke(actformer_single, tmp_path, monkeypatch, cache)
+    assert list(rows) == ["Real", "Action2Motion", "Action2Motion (reported)", "CSGN (reported)", "ACTOR",
+                          "ACTOR (reported)", "ActFormer", "ActFormer (reported)"]
+    measured = _columns("NTU-13") + _columns("BABEL")
+    for name in ("Real", "ACTOR", "ActFormer"):
+        assert list(rows[name]) == measured
+    assert list(rows["Action2Motion"]) == _columns("NTU-13")  # it makes no rotations for BABEL's evaluator
+    assert list(rows["ActFormer (reported)"]) == [c for label in actformer_single.LABELS for c in _columns(label)]
+    assert rows["ActFormer (reported)"]["NTU-1P FID_m"] == 12.53
+    repetitions = actformer_single.ActFormerSingleConfig.smoke().ntu13.protocol.repetitions
+    for name in ("Real", "Action2Motion", "ACTOR", "ActFormer"):
+        for column, cell in rows[name].items():
+            assert cell["n"] == repetitions and np.isfinite(cell["mean"]), (name, column)
+    # the Real row: two draws of the same windows' features lie closer than any generator's to them
+    for label in ("NTU-13", "BABEL"):
+        real = rows["Real"][f"{label} FID_w"]["mean"]
+        assert all(real < rows[name][f"{label} FID_w"]["mean"] for name in ("ACTOR", "ActFormer"))
+    workdir = tmp_path / "actformer_single" / "smoke" / "seed-0"
+    assert (workdir / "ntu-13" / "actformer").is_dir() and (workdir / "babel" / "actor").is_dir()
+
+
+def test_profiles_choose_the_datasets_and_the_authors_recipe():
+    cpu, paper = actformer_single.ActFormerSingleConfig.cpu(), actformer_single.ActFormerSingleConfig.paper()
+    assert cpu.datasets == ("NTU-13",) and paper.datasets == actformer_single.LABELS
+    assert paper.babel_actformer.sampling == "sqrt" and paper.ntu13_actformer.sampling == "epoch"
+    assert paper.nturecon_actformer.generator.output == "smpl" and paper.ntu1p_actformer.generator.output == "skeleton"
+    assert paper.ntu13_actformer.generator.joints == 24 and paper.babel_actformer.generator.joints == 25
+    assert paper.ntu1p_actformer.critic_base_channels == 32 and paper.ntu1p_actformer.batch_size == 64
+    assert not paper.ntu13_actor.canonical and not paper.ntu1p_a2m.canonical
+    assert paper.ntu1p_a2m.model.pose_dim == 75 and paper.babel_actor.model.num_classes == 120
+    assert paper.ntu13.protocol.accuracy == "class_mean" and paper.ntu13.protocol.reference == "tiles"
+    assert paper.ntu13.evaluator.dataset == "synth-ntu13" and paper.ntu13.evaluator.recognizer.inputs == "limbs"
+    with pytest.raises(ValueError, match="datasets"):
+        actformer_single.ActFormerSingleConfig(**{**cpu.__dict__, "datasets": ("UESTC",)})
