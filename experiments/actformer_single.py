@@ -41,15 +41,14 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.protocol import ProtocolConfig
 from jaxmotion.evaluation.tables import (
     ACTFORMER_COLUMNS,
     STAND_INS,
     TableDataset,
+    actformer_table,
     interleave_reported,
     reported_row,
     run_tables,
-    table_dataset,
 )
 from jaxmotion.train.a2m import A2MTraining, a2m_table_training
 from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training
@@ -83,17 +82,6 @@ CLAIMS = tuple(
     for other in ("Action2Motion", "CSGN", "ACTOR")
     for op, column in ((">", "Acc"), ("<", "FID_m"), ("<", "FID_w"))
 )
-
-SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, chunk=64, accuracy="class_mean",
-                                class_fid=True, reference="tiles")
-
-
-def actformer_table(label: str, profile: str) -> TableDataset:
-    """The stand-in of ``label`` under ActFormer's protocol (cpu: 5 repetitions) and its ST-GCN evaluator."""
-    return table_dataset(label, profile, evaluator=STAND_INS[label].dataset + "/stgcn",
-                         paper_protocol=ProtocolConfig.actformer(), cpu_protocol=ProtocolConfig.actformer(5),
-                         smoke_protocol=SMOKE_PROTOCOL)
-
 
 def actor_baseline(label: str, profile: str) -> ActorTraining:
     """ACTOR on ``label``'s rotations in the dataset's frame (the table recipe of its class count)."""

@@ -154,10 +154,31 @@ class Sweep(ProfileConfig):
         return {self.label(value): cfglib.replace_paths(self.training, {self.FIELD: value}) for value in self.values}
 
 
-def run_sweep(config: Sweep, ctx: RunContext) -> Rows:
-    """A :class:`Sweep`'s table: every row trained from the ``"train"`` key and scored from ``"eval"``."""
+class Variants(ProfileConfig):
+    """Base of an experiment whose rows each change a few fields of one training (an ablation table whose rows
+    differ in different fields). A subclass is a frozen dataclass with the fields ``training`` and ``table``,
+    and sets ``VARIANTS`` (row name -> ``{dotted path: value}`` into the training; ``{}``: the training
+    itself), ``SETUP`` (profile -> ``(training, table)``) and optionally ``COLUMNS`` (the paper's columns,
+    :func:`~jaxmotion.evaluation.tables.paper_columns`). Run it with :func:`run_sweep`."""
+
+    VARIANTS: ClassVar[Mapping[str, Mapping[str, Any]]]
+    SETUP: ClassVar[Callable[[str], tuple[Any, Any]]]
+
+    @classmethod
+    def for_profile(cls, profile: str):
+        return cls(*cls.SETUP(profile))
+
+    def rows(self) -> dict[str, Any]:
+        return {name: cfglib.replace_paths(self.training, changes) for name, changes in self.VARIANTS.items()}
+
+
+def run_sweep(config: Sweep | Variants, ctx: RunContext) -> Rows:
+    """A :class:`Sweep`'s or :class:`Variants`' table: every row trained from the ``"train"`` key and scored
+    from ``"eval"``, in the config's ``COLUMNS`` (ACTOR's by default)."""
+    columns = getattr(config, "COLUMNS", None)
     return run_table(config.rows(), config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                     **({} if columns is None else {"columns": columns}))
 
 
 RunFn = Callable[[Any, RunContext], Rows]

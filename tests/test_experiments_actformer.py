@@ -1,5 +1,7 @@
 """ActFormer's tables run end to end in their smoke profiles, laid out as the paper lays them out."""
 
+import importlib
+
 import numpy as np
 import pytest
 from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
@@ -48,3 +50,43 @@ def test_profiles_choose_the_datasets_and_the_authors_recipe():
     assert paper.ntu13.evaluator.dataset == "synth-ntu13" and paper.ntu13.evaluator.recognizer.inputs == "limbs"
     with pytest.raises(ValueError, match="datasets"):
         actformer_single.ActFormerSingleConfig(**{**cpu.__dict__, "datasets": ("UESTC",)})
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["actformer_ablation_single", "actformer_ablation_multi", "actformer_interaction"])
+def test_ablation_tables_measure_every_implemented_row_and_report_the_rest(name, tmp_path, monkeypatch, cache):
+    module = importlib.import_module(f"experiments.{name}")
+    rows = _smoke(module, tmp_path, monkeypatch, cache)
+    config = module.__dict__[next(k for k in module.__dict__ if k.endswith("Config"))].smoke()
+    measured = list(config.VARIANTS)
+    assert [row for row in rows if not row.endswith("(reported)")] == ["Real", *measured]
+    assert [row[:-len(" (reported)")] for row in rows if row.endswith("(reported)")] == list(module.REPORTED)
+    columns = list(config.COLUMNS.values())
+    for row in ["Real", *measured]:
+        assert list(rows[row]) == columns, row
+        assert all(np.isfinite(cell["mean"]) and cell["n"] == config.table.protocol.repetitions
+                   for cell in rows[row].values()), row
+    if config.training.generator.persons > 1:
+        assert any("FIDa" in column for column in columns)  # FID_a from the one-person recogniser
+
+
+def test_each_ablation_row_changes_only_what_its_name_says():
+    from experiments import actformer_ablation_multi, actformer_ablation_single, actformer_interaction
+
+    for module, config in ((actformer_ablation_single, actformer_ablation_single.ActFormerAblationSingleConfig),
+                           (actformer_ablation_multi, actformer_ablation_multi.ActFormerAblationMultiConfig),
+                           (actformer_interaction, actformer_interaction.ActFormerInteractionConfig)):
+        cfg = config.paper()
+        rows = cfg.rows()
+        for name, changes in cfg.VARIANTS.items():
+            differ = {path for path in ("prior", "shared_z", "generator.positions", "generator.interaction")
+                      if _get(rows[name], path) != _get(cfg.training, path)}
+            assert differ == set(changes), (module.__name__, name, differ)
+    interaction = actformer_interaction.ActFormerInteractionConfig.paper()
+    assert interaction.table.person_evaluator.dataset == "synth-ntu1p" and interaction.training.generator.persons == 2
+
+
+def _get(config, path):
+    for part in path.split("."):
+        config = getattr(config, part)
+    return config

@@ -158,11 +158,12 @@ def table_evaluator(table: TableDataset, real: Mapping[str, MotionDataset], data
 
 
 def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[str, MotionDataset],
-               recognizer: Recognizer, protocol: ProtocolConfig, *, mesh: Mesh | None = None
-               ) -> dict[str, dict[str, list[float]]]:
+               recognizer: Recognizer, protocol: ProtocolConfig, *, mesh: Mesh | None = None,
+               person_recognizer: Recognizer | None = None) -> dict[str, dict[str, list[float]]]:
     """Score ``samplers`` with ``recognizer`` (:func:`table_evaluator`) under ``protocol`` (generation and
-    recogniser passes sharded on ``mesh`` when given); rows in the protocol's metric names, the Real row last."""
-    rows = evaluate(key, samplers, recognizer, real, protocol, mesh=mesh)
+    recogniser passes sharded on ``mesh`` when given; FID_a with a ``person_recognizer``); rows in the
+    protocol's metric names, the Real row last."""
+    rows = evaluate(key, samplers, recognizer, real, protocol, mesh=mesh, person_recognizer=person_recognizer)
     return {**{name: rows[name] for name in samplers}, "Real": rows["Real"]}
 
 
@@ -217,12 +218,14 @@ def interleave_reported(rows: Mapping[str, Mapping[str, Any]], reported: Mapping
 @dataclasses.dataclass(frozen=True)
 class TableDataset:
     """One dataset of a table: its column prefix (the paper's name, ``"NTU-13"``), the data, the evaluator
-    and the protocol it is scored with."""
+    and the protocol it is scored with; for motions of several persons, optionally the one-person recogniser
+    of FID_a (``person_evaluator``, :func:`~jaxmotion.evaluation.protocol.evaluate`'s ``person_recognizer``)."""
 
     label: str
     data: TableData
     evaluator: RecognizerTraining
     protocol: ProtocolConfig
+    person_evaluator: RecognizerTraining | None = None
 
 
 #: The cpu profile's protocol unless an experiment sizes its own: 5 repetitions of up to 1 000 motions.
@@ -255,8 +258,11 @@ def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str |
     evaluate data-parallel on it (None: one device)."""
     real = real_sets(table.data, data_root)
     recognizer = table_evaluator(table, real, data_root)  # before any row trains
+    person = (None if table.person_evaluator is None
+              else trained_recognizer(table.person_evaluator, data_root=data_root)[0])
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
-    return paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh), columns)
+    return paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
+                                    person_recognizer=person), columns)
 
 
 def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Recipe]], *,
@@ -272,3 +278,19 @@ def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset],
                                                 eval_key=key(f"eval {table.label}"), data_root=data_root,
                                                 columns=columns, mesh=mesh)
                          for table in tables})
+
+
+#: ActFormer's smoke protocol: its settings at 3 motions per class and 2 repetitions.
+ACTFORMER_SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, chunk=64,
+                                          accuracy="class_mean", class_fid=True, reference="tiles")
+
+
+def actformer_table(label: str, profile: str) -> TableDataset:
+    """The stand-in of ``label`` under ActFormer's protocol (:meth:`ProtocolConfig.actformer`; cpu: 5
+    repetitions) with its ST-GCN evaluator; several persons add FID_a's one-person recogniser, NTU-1P's."""
+    table = table_dataset(label, profile, evaluator=STAND_INS[label].dataset + "/stgcn",
+                          paper_protocol=ProtocolConfig.actformer(), cpu_protocol=ProtocolConfig.actformer(5),
+                          smoke_protocol=ACTFORMER_SMOKE_PROTOCOL)
+    if synthetic.VARIANTS[table.data.name].persons == 1:
+        return table
+    return dataclasses.replace(table, person_evaluator=evaluator_spec("synth-ntu1p/stgcn", profile))

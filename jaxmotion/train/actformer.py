@@ -248,3 +248,4 @@ def actformer_table_training(dataset: str, profile: str) -> ActFormerTraining:
         steps = PAPER_EPOCHS * clips // (4 * 64)
         return ActFormerTraining(**common, loop=LoopConfig(steps, log_every=100, checkpoint_every=1000))
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
