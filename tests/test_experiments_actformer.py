@@ -90,3 +90,15 @@ def _get(config, path):
     for part in path.split("."):
         config = getattr(config, part)
     return config
+
+
+@pytest.mark.slow
+def test_multi_person_table_scores_the_pair_and_its_aggregated_persons(tmp_path, monkeypatch, cache):
+    from experiments import actformer_multi
+
+    rows = _smoke(actformer_multi, tmp_path, monkeypatch, cache)
+    assert [row for row in rows if not row.endswith("(reported)")] == ["Real", "ActFormer"]
+    assert list(rows["ActFormer"]) == list(actformer_multi.NTU2P)
+    assert rows["CSGN (reported)"]["Combat 5P FIDa"] == 4.02
+    for column in actformer_multi.NTU2P[1:]:  # the real windows' second draw lies nearer than the generator
+        assert rows["Real"][column]["mean"] < rows["ActFormer"][column]["mean"], column
