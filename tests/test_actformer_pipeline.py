@@ -14,7 +14,7 @@ from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.representations import actformer_features, limb_vectors
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.models.actformer import GeneratorConfig, normalize_output
-from jaxmotion.pipelines.actformer import ActFormerFit, data_bone_lengths, generate_motions, to_motions
+from jaxmotion.pipelines.actformer import fit_of, generate_motions, to_motions
 from jaxmotion.train.actformer import ActFormerTraining, actformer_state, critic_graphs
 from jaxmotion.train.loop import LoopConfig
 
@@ -27,7 +27,7 @@ def _training(**generator):
 
 def _fresh(training, data):
     state = actformer_state(training, critic_graphs(training, data.skeleton.parents), jax.random.key(0))
-    return ActFormerFit(state, data_bone_lengths(data))
+    return fit_of(state, data)
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,7 @@ def test_skeleton_output_rebuilds_joints_whose_limbs_are_the_generated_unit_vect
     parents = pairs.skeleton.parents
     raw = jax.random.normal(jax.random.key(1), (3, 2, 16, 25, 3))
     motion = normalize_output(raw, "skeleton")
-    lengths = data_bone_lengths(pairs)
+    lengths = fit_of(None, pairs).bone_lengths
     joints = to_motions(motion, "skeleton", pairs.skeleton, lengths)["joints"]
     np.testing.assert_allclose(np.asarray(joints[..., 0, :]), np.asarray(motion[..., 0, :]))
     bones = np.linalg.norm(np.asarray(joints - joints[..., np.maximum(np.array(parents), 0), :]), axis=-1)
@@ -60,7 +60,7 @@ def test_smpl_output_of_real_features_gives_back_the_real_rotations_and_the_path
     windows = epoch_windows(smpl, jax.random.key(0), BatchSpec(batch_size=1, window=16, canonical=False), 4)
     features = actformer_features("rot6d+translation", smpl.skeleton.parents, windows["joints"],
                                   windows["translation"], windows["rotations"])
-    out = to_motions(features, "smpl", smpl.skeleton, data_bone_lengths(smpl))
+    out = to_motions(features, "smpl", smpl.skeleton, fit_of(None, smpl).bone_lengths)
     np.testing.assert_allclose(np.asarray(axis_angle_to_matrix(out["rotations"])),
                                np.asarray(axis_angle_to_matrix(jnp.asarray(windows["rotations"]))), atol=1e-5)
     centred = np.asarray(windows["translation"]) - np.asarray(windows["translation"]).mean(axis=1, keepdims=True)
@@ -70,6 +70,17 @@ def test_smpl_output_of_real_features_gives_back_the_real_rotations_and_the_path
     expected = forward_kinematics(axis_angle_to_matrix(jnp.asarray(windows["rotations"])), jnp.asarray(centred),
                                   jnp.asarray(smpl.skeleton.offsets), smpl.skeleton.parents)
     np.testing.assert_allclose(np.asarray(out["joints"]), np.asarray(expected), atol=1e-5)
+
+
+def test_motions_are_lifted_by_the_data_s_mean_root_height(pairs):
+    fitted = fit_of(None, pairs)
+    np.testing.assert_allclose(fitted.root_height, pairs.joints[..., 0, 1].mean(), rtol=1e-6)
+    assert 0.5 < fitted.root_height < 1.5  # a standing pelvis, metres
+    motion = normalize_output(jax.random.normal(jax.random.key(3), (2, 16, 25, 3)), "skeleton")
+    flat = to_motions(motion, "skeleton", pairs.skeleton, fitted.bone_lengths)["joints"]
+    lifted = to_motions(motion, "skeleton", pairs.skeleton, fitted.bone_lengths, fitted.root_height)["joints"]
+    np.testing.assert_allclose(np.asarray(lifted - flat), np.broadcast_to([0, fitted.root_height, 0], flat.shape),
+                               atol=1e-5)
 
 
 def test_row_n_depends_on_its_key_only_not_on_the_chunking_or_the_other_rows(pairs):

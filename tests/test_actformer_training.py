@@ -11,7 +11,7 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.geometry.skeletons import NTU25
 from jaxmotion.models.actformer import GeneratorConfig
-from jaxmotion.pipelines.actformer import ActFormerFit, data_bone_lengths, generate_motions
+from jaxmotion.pipelines.actformer import fit_of, generate_motions
 from jaxmotion.train.actformer import ActFormerTraining, critic_graphs, real_batches, train_actformer
 from jaxmotion.train.loop import LoopConfig
 
@@ -62,7 +62,7 @@ def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, 
                                           else fresh.buffers[name].embedding.u))
     log = (tmp_path / "a" / "metrics.jsonl").read_text().splitlines()
     assert len(log) == 2 and all("critic_loss" in line and "generator_loss" in line for line in log)
-    motions = generate_motions(ActFormerFit(first, data_bone_lengths(pairs)), training, jax.random.key(2),
+    motions = generate_motions(fit_of(first, pairs), training, jax.random.key(2),
                                np.arange(3), pairs.skeleton)
     assert motions["joints"].shape == (3, 2, 16, 25, 3) and np.isfinite(motions["joints"]).all()
 

@@ -7,6 +7,9 @@ back:
 * ``skeleton`` output (root + unit limb vectors): joints rebuilt from the generated root along the unit
   vectors with the training data's mean bone lengths (ActFormer's ``avglength``, kept in :class:`ActFormerFit`);
   ``translation`` is the rebuilt root. A recogniser reading ``limbs`` recovers the unit vectors to 1e-4.
+  ActFormer's root is the clip's mean root removed, so the body's height is lost: the motions are lifted by
+  the training data's mean root height (:class:`ActFormerFit`), standing on the floor on average (the
+  evaluators remove it again).
 * ``smpl`` output (rot6d + translation row): the rotations as axis-angle, the translation (de-meaned over the
   clip, as generated), joints by forward kinematics on the skeleton's rest offsets.
 
@@ -37,16 +40,20 @@ from jaxmotion.train.state import MultiState
 
 
 class ActFormerFit(NamedTuple):
-    """A trained ActFormer: the train state (generator and critic, their spectral-norm vectors) and the
-    training data's mean bone lengths ``[J]`` that skeleton output is rebuilt with."""
+    """A trained ActFormer: the train state (generator and critic, their spectral-norm vectors), the training
+    data's mean bone lengths ``[J]`` that skeleton output is rebuilt with and its mean root height (metres, up
+    the library's +Y) that generated motions are lifted by (:func:`fit_of`)."""
 
     state: MultiState
     bone_lengths: np.ndarray
+    root_height: float
 
 
-def data_bone_lengths(data: MotionDataset) -> np.ndarray:
-    """``[J]`` the mean length of every bone over all frames and persons of ``data``."""
-    return np.asarray(mean_bone_lengths(jnp.asarray(data.joints), data.skeleton.parents))
+def fit_of(state: MultiState, data: MotionDataset) -> ActFormerFit:
+    """``state`` trained on ``data`` with ``data``'s mean bone lengths (over all frames and persons) and mean
+    root height."""
+    lengths = np.asarray(mean_bone_lengths(jnp.asarray(data.joints), data.skeleton.parents))
+    return ActFormerFit(state, lengths, float(np.mean(data.joints[..., 0, 1])))
 
 
 def _check_skeleton(training, skeleton: Skeleton) -> None:
@@ -60,14 +67,18 @@ def _check_skeleton(training, skeleton: Skeleton) -> None:
         raise ValueError("training.generator.output: 'raw' output has no motion to rebuild; use 'skeleton' or 'smpl'")
 
 
-def to_motions(motion: jax.Array, output: str, skeleton: Skeleton, bone_lengths: jax.Array) -> dict[str, jax.Array]:
+def to_motions(motion: jax.Array, output: str, skeleton: Skeleton, bone_lengths: jax.Array,
+               root_height: float | jax.Array = 0.0) -> dict[str, jax.Array]:
     """The generator's ``motion [N, (P,) T, V, C]`` -> ``joints [N, (P,) T, J, 3]`` and ``translation
-    [N, (P,) T, 3]`` (plus axis-angle ``rotations [N, (P,) T, J, 3]`` for ``output="smpl"``)."""
+    [N, (P,) T, 3]`` (plus axis-angle ``rotations [N, (P,) T, J, 3]`` for ``output="smpl"``), lifted by
+    ``root_height`` along +Y."""
+    lift = jnp.asarray([0.0, 1.0, 0.0], motion.dtype) * root_height
     if output == "skeleton":
-        joints = joints_from_limb_vectors(motion, skeleton.parents, bone_lengths)
+        joints = joints_from_limb_vectors(motion, skeleton.parents, bone_lengths) + lift
         return {"joints": joints, "translation": joints[..., 0, :]}
     if output == "smpl":
         rotations, translation = split_rotation_features(motion, "rot6d")
+        translation = translation + lift
         joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, jnp.asarray(skeleton.offsets),
                                     skeleton.parents)
         return {"joints": joints, "translation": translation, "rotations": rotations}
@@ -75,14 +86,14 @@ def to_motions(motion: jax.Array, output: str, skeleton: Skeleton, bone_lengths:
 
 
 @functools.partial(jax.jit, static_argnames=("training", "skeleton"))
-def _generate(training, state: MultiState, bone_lengths: jax.Array, keys: jax.Array, actions: jax.Array,
-              skeleton: Skeleton) -> dict[str, jax.Array]:
+def _generate(training, state: MultiState, bone_lengths: jax.Array, root_height: jax.Array, keys: jax.Array,
+              actions: jax.Array, skeleton: Skeleton) -> dict[str, jax.Array]:
     from jaxmotion.train.actformer import latent_factors, sample_latents  # the trainer imports this module
 
     factors = latent_factors(training)
     z = jax.vmap(lambda k: sample_latents(training, factors, jax.random.wrap_key_data(k), 1)[0])(keys)
     motion, _ = generate(training.generator, state.params["generator"], state.buffers["generator"], z, actions)
-    return to_motions(motion, training.generator.output, skeleton, bone_lengths)
+    return to_motions(motion, training.generator.output, skeleton, bone_lengths, root_height)
 
 
 def generate_motions(trained: ActFormerFit, training, key: jax.Array, actions, skeleton: Skeleton, *,
@@ -99,7 +110,8 @@ def generate_motions(trained: ActFormerFit, training, key: jax.Array, actions, s
 
     def run(_, part):
         row_keys, labels = part
-        return _generate(training, trained.state, lengths, row_keys, labels, skeleton)
+        return _generate(training, trained.state, lengths, jnp.float32(trained.root_height), row_keys, labels,
+                         skeleton)
 
     out = map_in_chunks(run, (np.asarray(jax.random.key_data(keys)), actions.astype(np.int32)), chunk)
     return {**out, "lengths": np.full(len(actions), g.frames, np.int32), "actions": actions.astype(np.int32)}

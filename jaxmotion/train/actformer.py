@@ -43,7 +43,7 @@ from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
 from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
 from jaxmotion.nn.graph_coarsening import critic_adjacency
-from jaxmotion.pipelines.actformer import ActFormerFit, actformer_sampler, data_bone_lengths
+from jaxmotion.pipelines.actformer import ActFormerFit, actformer_sampler, fit_of
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.state import MultiState
@@ -90,7 +90,7 @@ class ActFormerTraining:
 
     def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options
             ) -> ActFormerFit:
-        return ActFormerFit(train_actformer(data, self, key, workdir, **loop_options), data_bone_lengths(data))
+        return fit_of(train_actformer(data, self, key, workdir, **loop_options), data)
 
     def sampler(self, trained: ActFormerFit, skeleton: Skeleton):
         return actformer_sampler(trained, self, skeleton)
