@@ -1,6 +1,8 @@
 """ActFormer's critic: parameter count at the authors' NTU-2P config, the node-specific graph convolution
 against a direct loop, persons stacked on the channels, the projection conditioning, spectral norm in training."""
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -77,3 +79,28 @@ def test_bad_shapes_name_the_field():
         critic(config, graphs, params, spectral, jnp.zeros((2, 60, 24, 3)), jnp.zeros(2, int))
     with pytest.raises(ValueError, match=r"graphs.down2: expected \[K, W, 11\]"):
         init_critic(jax.random.key(0), config, graphs._replace(down2=np.ones((2, 5, 10))))
+
+
+@pytest.mark.parametrize("pooling", ["avg", "max", "attention"])
+def test_pooled_critics_score_persons_alone_and_ignore_their_order(pooling):
+    """Table 4's alternatives: the critic body on each person (C channels), features pooled symmetrically."""
+    config = CriticConfig(num_classes=4, channels=3, base_channels=8, pooling=pooling)
+    graphs = _graphs(np.random.default_rng(4))
+    params, spectral = init_critic(jax.random.key(3), config, graphs)
+    assert (params.attention is not None) == (pooling == "attention")
+    motion = jax.random.normal(jax.random.key(4), (3, 2, 60, 25, 3))
+    labels = jnp.array([0, 1, 2])
+    scores, moved = critic(config, graphs, params, spectral, motion, labels, train=True)
+    swapped, _ = critic(config, graphs, params, spectral, motion[:, ::-1], labels, train=True)
+    assert scores.shape == (3,)
+    np.testing.assert_allclose(np.asarray(swapped), np.asarray(scores), rtol=1e-5, atol=1e-5)
+    if pooling == "attention":  # its layers are normalised like the rest: their vectors move in training
+        assert not np.allclose(np.asarray(moved.attention[0].u), np.asarray(spectral.attention[0].u))
+    # one person's features decide a max-pooled score where they dominate; the mean mixes both
+    single, _ = critic(dataclasses.replace(config, pooling="concat"), graphs, params._replace(attention=None),
+                       spectral._replace(attention=None), motion[:, 0], labels)
+    double, _ = critic(config, graphs, params, spectral, jnp.stack([motion[:, 0], motion[:, 0]], 1), labels)
+    if pooling in ("avg", "max"):  # pooling two copies of one person gives that person's own score
+        np.testing.assert_allclose(np.asarray(double), np.asarray(single), rtol=1e-5, atol=1e-5)
+    with pytest.raises(ValueError, match="scores persons one by one"):
+        critic(config, graphs, params, spectral, motion[:, 0], labels)

@@ -79,7 +79,8 @@ def test_each_ablation_row_changes_only_what_its_name_says():
         cfg = config.paper()
         rows = cfg.rows()
         for name, changes in cfg.VARIANTS.items():
-            differ = {path for path in ("prior", "shared_z", "generator.positions", "generator.interaction")
+            differ = {path for path in ("prior", "shared_z", "critic_pooling", "generator.positions",
+                                                 "generator.interaction")
                       if _get(rows[name], path) != _get(cfg.training, path)}
             assert differ == set(changes), (module.__name__, name, differ)
     interaction = actformer_interaction.ActFormerInteractionConfig.paper()

@@ -18,6 +18,12 @@ sets come from :mod:`jaxmotion.nn.graph_coarsening` (the caller passes them as :
 Spectral normalisation on every layer, the embedding included (each grouped convolution is one matrix
 ``[V·c·k, C_in·kernel]``, as PyTorch views it).
 
+Table 4's alternatives (``pooling``): instead of one critic on the stacked persons (``"concat"``, the code),
+the same critic body runs on each person alone (C channels) and its per-person features ``h [B, P, 512]`` are
+pooled over the persons before the score: ``"avg"``, ``"max"``, or ``"attention"`` (one single-head
+self-attention over the persons with a residual, then the mean; the paper does not detail its module, so it is
+the plainest symmetric one, spectrally normalised like every other layer).
+
 Init: PyTorch's defaults (FACTS 5: the code's ``weights_init`` does not reach spectrally normalised layers), the
 biases zeroed, the embedding orthogonal.
 
@@ -27,7 +33,7 @@ Axes: B batch, T frames, V / W input / output nodes, C channels, K hop kernels.
 from __future__ import annotations
 
 import dataclasses
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -62,11 +68,14 @@ class CriticConfig:
     time_kernel: int = 4
     motion_flow: bool = True
     spectral_norm: bool = True
+    pooling: Literal["concat", "avg", "max", "attention"] = "concat"
 
     def __post_init__(self):
         for name in ("num_classes", "joints", "channels", "base_channels", "time_kernel"):
             if getattr(self, name) < 1:
                 raise ValueError(f"CriticConfig.{name}: expected >= 1, got {getattr(self, name)}")
+        if self.pooling not in ("concat", "avg", "max", "attention"):
+            raise ValueError(f"CriticConfig.pooling: expected concat, avg, max or attention, got {self.pooling!r}")
 
     @property
     def widths(self) -> tuple[int, int, int, int, int]:
@@ -91,6 +100,7 @@ class CriticParams(NamedTuple):
     conv4_bias: jax.Array  # [512]
     conv5: LinearParams  # [1, 512]
     embedding: jax.Array  # [K, 512]
+    attention: tuple[LinearParams, ...] | None = None  # pooling="attention": q, k, v, out [512, 512]
 
 
 class CriticSpectral(NamedTuple):
@@ -101,6 +111,7 @@ class CriticSpectral(NamedTuple):
     conv4: SpectralState
     conv5: SpectralState
     embedding: SpectralState
+    attention: tuple[SpectralState, ...] | None = None
 
 
 def _check_graphs(graphs: CriticGraphs, joints: int) -> None:
@@ -126,8 +137,10 @@ def init_critic(key: jax.Array, config: CriticConfig, graphs: CriticGraphs) -> t
     _check_graphs(graphs, config.joints)
     c1, c2, c3, c4, c5 = config.widths
     kt = config.time_kernel
-    keys = jax.random.split(key, 8)
+    keys = jax.random.split(key, 10)
     coarse = graphs.down3.shape[1]
+    attention = (tuple(init_linear(k, c5, c5)._replace(bias=jnp.zeros((c5,))) for k in jax.random.split(keys[8], 4))
+                 if config.pooling == "attention" else None)
     params = CriticParams(
         conv0=_init_graph_conv(keys[0], graphs.conv0, config.in_channels, c1, 5, True),
         down1=_init_graph_conv(keys[1], graphs.down1, c1, c2, kt, False),
@@ -137,12 +150,17 @@ def init_critic(key: jax.Array, config: CriticConfig, graphs: CriticGraphs) -> t
         conv4_bias=jnp.zeros((c5,)),
         conv5=init_linear(keys[5], c5, 1)._replace(bias=jnp.zeros((1,))),
         embedding=jax.nn.initializers.orthogonal()(keys[6], (config.num_classes, c5), jnp.float32),
+        attention=attention,
     )
     if not config.spectral_norm:
         return params, None
     weights = (params.conv0.weight, params.down1.weight, params.down2.weight, params.down3.weight,
                params.conv4_weight, params.conv5.weight, params.embedding)
-    return params, CriticSpectral(*(init_spectral_state(k, w) for k, w in zip(jax.random.split(keys[7], 7), weights)))
+    states = CriticSpectral(*(init_spectral_state(k, w) for k, w in zip(jax.random.split(keys[7], 7), weights)))
+    if attention is not None:
+        states = states._replace(attention=tuple(init_spectral_state(k, layer.weight) for k, layer in
+                                                 zip(jax.random.split(keys[9], 4), attention)))
+    return params, states
 
 
 
@@ -155,10 +173,17 @@ def _normalized(params: CriticParams, spectral: CriticSpectral | None, train: bo
         (params.conv0.weight, params.down1.weight, params.down2.weight, params.down3.weight, params.conv4_weight,
          params.conv5.weight, params.embedding), spectral)]
     w0, w1, w2, w3, w4, w5, emb = (w for w, _ in out)
+    moved = CriticSpectral(*(s for _, s in out))
+    if params.attention is not None:
+        pairs = [spectral_normalize(layer.weight, st, train=train) for layer, st in zip(params.attention,
+                                                                                          spectral.attention)]
+        params = params._replace(attention=tuple(layer._replace(weight=w) for layer, (w, _) in
+                                                 zip(params.attention, pairs)))
+        moved = moved._replace(attention=tuple(st for _, st in pairs))
     params = params._replace(conv0=params.conv0._replace(weight=w0), down1=params.down1._replace(weight=w1),
                              down2=params.down2._replace(weight=w2), down3=params.down3._replace(weight=w3),
                              conv4_weight=w4, conv5=params.conv5._replace(weight=w5), embedding=emb)
-    return params, (CriticSpectral(*(s for _, s in out)) if train else spectral)
+    return params, (moved if train else spectral)
 
 
 def graph_conv(p: GraphConvParams, adjacency: np.ndarray, x: jax.Array, *, stride: int, padding: int) -> jax.Array:
@@ -178,15 +203,24 @@ def graph_conv(p: GraphConvParams, adjacency: np.ndarray, x: jax.Array, *, strid
 
 def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spectral: CriticSpectral | None,
            motion: jax.Array, labels: jax.Array, *, train: bool = False) -> tuple[jax.Array, CriticSpectral | None]:
-    """``(scores [B], spectral)`` for ``motion`` ``[B, T, V, C]`` or ``[B, P, T, V, C]`` (persons stacked on the
-    channels, person-major) and ``labels [B]``; ``train`` moves the power iterations."""
-    if motion.ndim == 5:
+    """``(scores [B], spectral)`` for ``motion`` ``[B, T, V, C]`` or ``[B, P, T, V, C]`` (``pooling="concat"``:
+    persons stacked on the channels, person-major; otherwise each person alone, then pooled) and ``labels [B]``;
+    ``train`` moves the power iterations."""
+    pooled = config.pooling != "concat"
+    if pooled and (motion.ndim != 5 or motion.shape[3:] != (config.joints, config.channels)):
+        raise ValueError(f"motion: pooling {config.pooling!r} scores persons one by one: expected [B, P, T, "
+                         f"{config.joints}, {config.channels}], got {tuple(motion.shape)}")
+    persons = motion.shape[1] if pooled else 1
+    if pooled:
+        motion = motion.reshape(-1, *motion.shape[2:])  # [B·P, T, V, C]
+    elif motion.ndim == 5:
         motion = jnp.moveaxis(motion, 1, 3).reshape(*motion.shape[0:1], *motion.shape[2:4], -1)
     if motion.ndim != 4 or motion.shape[2:] != (config.joints, config.channels):
         raise ValueError(f"motion: expected [B, T, {config.joints}, {config.channels}] (or [B, P, T, "
                          f"{config.joints}, C] with P·C = {config.channels}), got {tuple(motion.shape)}")
-    if labels.shape != motion.shape[:1]:
-        raise ValueError(f"labels: expected [B] = [{motion.shape[0]}] class indices, got {tuple(labels.shape)}")
+    if labels.shape != (motion.shape[0] // persons,):
+        raise ValueError(f"labels: expected [B] = [{motion.shape[0] // persons}] class indices, got "
+                         f"{tuple(labels.shape)}")
     p, spectral = _normalized(params, spectral, train)
     x = motion
     if config.motion_flow:
@@ -201,6 +235,24 @@ def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spe
     lhs = jnp.transpose(x, (0, 3, 2, 1))  # [B, C, W, T]
     y = jax.lax.conv_general_dilated(lhs, p.conv4_weight, (2, 2), [(0, 0), (pad, pad)],
                                      dimension_numbers=("NCHW", "OIHW", "NCHW"), precision=_HIGHEST)
-    h = act(y + p.conv4_bias[:, None, None]).sum(axis=(2, 3))  # [B, 512]
+    h = act(y + p.conv4_bias[:, None, None]).sum(axis=(2, 3))  # [B, 512] (pooled: [B·P, 512])
+    if pooled:
+        h = pool_persons(config.pooling, h.reshape(-1, persons, h.shape[-1]), p.attention)
     score = linear(p.conv5, h)[:, 0] + jnp.sum(p.embedding[labels] * h, -1)
     return score, spectral
+
+
+def pool_persons(pooling: str, h: jax.Array, attention: tuple[LinearParams, ...] | None = None) -> jax.Array:
+    """Per-person critic features ``h [B, P, D]`` -> ``[B, D]``, symmetric in the persons: their mean, their
+    channel-wise max, or one single-head self-attention with a residual (``attention``: q, k, v, out), then
+    the mean."""
+    if pooling == "avg":
+        return jnp.mean(h, 1)
+    if pooling == "max":
+        return jnp.max(h, 1)
+    if pooling == "attention":
+        q, k, v = (linear(layer, h) for layer in attention[:3])
+        out = attention[3]
+        weights = jax.nn.softmax(jnp.einsum("bpd,bqd->bpq", q, k, precision=_HIGHEST) / np.sqrt(h.shape[-1]), -1)
+        return jnp.mean(h + linear(out, jnp.einsum("bpq,bqd->bpd", weights, v, precision=_HIGHEST)), 1)
+    raise ValueError(f"pooling: expected avg, max or attention, got {pooling!r}")

@@ -8,7 +8,8 @@ critic ``D(fake) - D(real)``); Adam 2e-4 with betas (0, 0.999) for both. Every f
 spectral-norm power iterations, as PyTorch's hooks do: the critic's twice per critic update (real, then fake)
 and once in the generator update, the generator's once per fake batch; the vectors live in the state's
 ``buffers``. Latent sequences come from the GP prior (``prior="gaussian"``: white, the ablation), one per clip
-shared by its persons (``shared_z=False``: one per person).
+shared by its persons (``shared_z=False``: one per person). ``critic_pooling``: the critic on the stacked
+persons (``"concat"``, the code) or on each person with its features pooled (Table 4's avg / max / attention).
 
 Data: windows of ``frames`` frames with ActFormer's snake padding, in the dataset's own frame (no canonical
 turn: ActFormer's data stay in the camera's), turned into the generator's representation: ``skeleton``
@@ -66,6 +67,7 @@ class ActFormerTraining:
     shared_z: bool = True
     permute_persons: bool = False
     sampling: Sampling = "epoch"
+    critic_pooling: Literal["concat", "avg", "max", "attention"] = "concat"
 
     def __post_init__(self):
         if self.n_critic < 1 or self.batch_size < 1:
@@ -75,12 +77,18 @@ class ActFormerTraining:
             raise ValueError(f"ActFormerTraining: loss {self.loss!r} / prior {self.prior!r} unknown")
         if self.permute_persons and self.generator.persons < 2:
             raise ValueError("ActFormerTraining.permute_persons: needs a generator of several persons")
+        if self.critic_pooling != "concat" and self.generator.persons < 2:
+            raise ValueError(f"ActFormerTraining.critic_pooling: {self.critic_pooling!r} pools over persons; the "
+                             f"generator has one")
 
     @property
     def critic(self) -> CriticConfig:
         g = self.generator
-        return CriticConfig(num_classes=g.num_classes, joints=g.joints, channels=g.persons * g.channels,
-                            base_channels=self.critic_base_channels, spectral_norm=g.spectral_norm)
+        stacked = self.critic_pooling == "concat"
+        return CriticConfig(num_classes=g.num_classes, joints=g.joints,
+                            channels=g.persons * g.channels if stacked else g.channels,
+                            base_channels=self.critic_base_channels, spectral_norm=g.spectral_norm,
+                            pooling=self.critic_pooling)
 
     @property
     def batch(self) -> BatchSpec:
