@@ -85,7 +85,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import machine_header, time_pair
+from benchmarks.timing import as_loop_runs, machine_header, time_loop_step, time_pair
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.models.actformer import GeneratorConfig, generate
@@ -160,12 +160,6 @@ def step_draws(recipe: ActFormerTraining, key: jax.Array) -> tuple[np.ndarray, n
         labels.append(jax.random.randint(k_y, (recipe.batch_size,), 0, CONFIG.num_classes))
         latents.append(sample_latents(recipe, factors, k_z, recipe.batch_size))
     return np.array(jnp.stack(latents)), np.array(jnp.stack(labels))
-
-
-def loop_step(recipe: ActFormerTraining, graphs, parents):
-    """The library's step wrapped as ``jaxmotion.train.loop.train`` runs it: key ``fold_in(loop key, step)``."""
-    step_fn = actformer_step(recipe, graphs, parents)
-    return lambda state, batch, loop_key: step_fn(state, batch, jax.random.fold_in(loop_key, state.step))
 
 
 # ---------------------------------------------------------------------------------------------- parity
@@ -252,7 +246,7 @@ def check_train_parity(data, graphs, parents, k_init: jax.Array, k_loop: jax.Arr
                                                     g_grad_t))}
 
     generator, critic_t, optimizers = build_peers(recipe, graphs, state.params, state.buffers)
-    state, metrics = jax.jit(loop_step(recipe, graphs, parents))(state, batch, k_loop)
+    state, metrics = jax.jit(as_loop_runs(actformer_step(recipe, graphs, parents)))(state, batch, k_loop)
     d_theirs, g_theirs = peer.train_iteration(generator, critic_t, optimizers, to_torch(reals), to_torch(labels),
                                               latents=to_torch(draws[0]), fake_labels=to_torch(draws[1]))
     d_ours, g_ours = float(metrics["critic_loss"]), float(metrics["generator_loss"])
@@ -298,19 +292,8 @@ def bench_train(data, graphs, parents, batch_size: int, repeats: int, parity: bo
 
         theirs = peer_iteration
 
-    jitted = jax.jit(loop_step(recipe, graphs, parents), donate_argnums=0)
-    tick = time.perf_counter()
-    compiled = jitted.lower(state, batch, k_loop).compile()
-    compile_s = time.perf_counter() - tick
-
-    def ours():
-        nonlocal state
-        state, metrics = compiled(state, batch, k_loop)
-        jax.block_until_ready((state, metrics))
-
-    result, peer_result = time_pair(ours, theirs, repeats)
-    assert int(state.step) == repeats + 1
-    return {**result, "peer": peer_result, "parity": check, "compile_s": compile_s}
+    step_fn = actformer_step(recipe, graphs, parents)
+    return {**time_loop_step(step_fn, state, batch, k_loop, theirs, repeats), "parity": check}
 
 
 def warm_state(recipe: ActFormerTraining, graphs):

@@ -85,7 +85,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import machine_header, time_pair
+from benchmarks.timing import machine_header, time_loop_step, time_pair
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.mixtures import MODE_KS, choose_k, discover_modes_batched
@@ -208,11 +208,6 @@ def bench_train(data, pairs: int, repeats: int, parity: bool) -> dict:
     state = odmo_state(recipe, k_init)
     batch = pair_batch(data, recipe, k_data)
     step_fn = odmo_step(recipe)  # the library's step, as train_odmo's loop builds it
-
-    # jaxmotion.train.loop.train's wrapper: the step's key is fold_in(loop key, step), the state donated.
-    def run_step(state, batch, loop_key):
-        return step_fn(state, batch, jax.random.fold_in(loop_key, state.step))
-
     theirs, check = None, None
     if peer is not None:
         if parity:
@@ -225,19 +220,7 @@ def bench_train(data, pairs: int, repeats: int, parity: bool) -> dict:
         def theirs():
             peer.train_step(model, optimizer, batch_t, rate=rate, clip_norm=recipe.clip_norm)
 
-    jitted = jax.jit(run_step, donate_argnums=0)
-    tick = time.perf_counter()
-    compiled = jitted.lower(state, batch, k_loop).compile()
-    compile_s = time.perf_counter() - tick
-
-    def ours():
-        nonlocal state
-        state, terms = compiled(state, batch, k_loop)
-        jax.block_until_ready((state, terms))
-
-    result, peer_result = time_pair(ours, theirs, repeats)
-    assert int(state.step) == repeats + 1
-    return {**result, "peer": peer_result, "parity": check, "compile_s": compile_s}
+    return {**time_loop_step(step_fn, state, batch, k_loop, theirs, repeats), "parity": check}
 
 
 def sampling_inputs(per_class: int):

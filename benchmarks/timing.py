@@ -58,3 +58,29 @@ def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
             theirs()
             times_theirs.append(1e3 * (time.perf_counter() - tick))
     return _stats(times_ours), (_stats(times_theirs) if theirs is not None else None)
+
+
+def as_loop_runs(step_fn):
+    """A library step ``(state, batch, key)`` wrapped as ``jaxmotion.train.loop.train`` runs it: the step's key
+    is ``fold_in(loop key, state.step)``."""
+    return lambda state, batch, loop_key: step_fn(state, batch, jax.random.fold_in(loop_key, state.step))
+
+
+def time_loop_step(step_fn, state, batch, loop_key, theirs, repeats: int) -> dict:
+    """Time ``step_fn`` (:func:`as_loop_runs`' wrapper applied) jitted with the state donated, as the loop runs
+    it, against ``theirs`` (or None): ``{"median", "min", "max", "peer", "compile_s"}`` in ms / s."""
+    jitted = jax.jit(as_loop_runs(step_fn), donate_argnums=0)
+    tick = time.perf_counter()
+    compiled = jitted.lower(state, batch, loop_key).compile()
+    compile_s = time.perf_counter() - tick
+    first = int(state.step)  # read before the first call donates the state
+    holder = [state]
+
+    def ours():
+        holder[0], metrics = compiled(holder[0], batch, loop_key)
+        jax.block_until_ready((holder[0], metrics))
+
+    result, peer_result = time_pair(ours, theirs, repeats)
+    if int(holder[0].step) != first + repeats + 1:  # warm-up + repeats steps, none skipped
+        raise AssertionError(f"step count {int(holder[0].step)} after {repeats + 1} steps")
+    return {**result, "peer": peer_result, "compile_s": compile_s}
