@@ -40,8 +40,8 @@ frames, code 20):
 * **Mode discovery** for every class: 12 classes of ~``--codes`` 20-dimensional codes (counts vary by ±10%
   between classes), each class drawn from its own mixture of 2-4 Gaussians (a stand-in for a trained code
   bank; the means a standard normal draw each, ~6 apart, spreads 0.2-0.6 per axis). jaxmotion:
-  ``jaxmotion.mixtures.discover_modes_batched`` (every k = 3..9 of every class in one jitted call, the code's
-  rule). scikit-learn: the authors' loop, per class for k = 3..9
+  ``jaxmotion.mixtures.discover_modes_batched`` (the code's rule; one jitted call per k = 3, 4, ... fits every
+  class whose rule has not broken yet, until none is left). scikit-learn: the authors' loop, per class for k = 3..9
   ``GaussianMixture(n_components=k, n_init=5, init_params="kmeans", random_state=0).fit_predict`` and
   ``silhouette_score``, stopping at the first ``S_k < 0.95 · S_{k−1}`` (k − 1 chosen, 9 if none), then the
   final fit at the chosen k.

@@ -58,13 +58,14 @@ ODMO's number of modes (:func:`choose_k`; FACTS §7, code vs paper) from the sil
 * ``rule="paper"`` (supplement, Sec. 2.2): k = 3..11, the first i with ``S_i > 0.95 · S_{i+1}``; 11 when
   none.
 
-:func:`discover_modes_batched` fits every k of every problem in one jitted computation: a fit with k
-components runs in ``max(ks)`` component slots of which the first k are active (an inactive slot has
-weight 0, takes no sample and is never a center), so one compilation serves all ks, and the k-means
-starts are vmapped over problems, ks and restarts. Its EM runs share a pool of slots that take the next
-pending run when theirs converges, so the few slow runs do not hold up the many fast ones. The two
-``discover_modes`` functions are host-side drivers (the choice of k is Python) and jit that kernel
-themselves; everything else is jittable, not jitted.
+:func:`discover_modes_batched` fits all problems with k components in one jitted call (the k-means
+starts vmapped over problems and restarts; the EM runs share a pool of slots that take the next pending
+run when theirs converges, so the few slow runs do not hold up the many fast ones), for k = 3, 4, ... until
+every problem's rule has broken: like the authors' loop, it never fits the ks past the break, which are
+the costly ones (EM with many components converges slowly); a problem whose rule has broken takes no
+more EM slots. The two ``discover_modes`` functions are
+host-side drivers (the choice of k is Python) and jit that kernel themselves; everything else is jittable,
+not jitted.
 
 Dropping small components before sampling (ODMO: ≤ 10 codes in the code, < 10 in the paper) is the
 caller's: give them a count of 0 in :func:`sample_components`.
@@ -113,7 +114,8 @@ class GaussianMixture(NamedTuple):
 
 
 class Modes(NamedTuple):
-    """One problem's modes: the chosen K, the mixture fitted with it, its labels, every ``S_k``."""
+    """One problem's modes: the chosen K, the mixture fitted with it, its labels, ``S_k`` of every k in
+    ks (NaN past the rule's break, where no fit ran)."""
 
     k: int
     gmm: GaussianMixture  # K = k components
@@ -128,7 +130,7 @@ class ModesBatch(NamedTuple):
     k: np.ndarray  # [C] int
     gmm: GaussianMixture  # weights [C, K], means [C, K, D], covariances [C, K, D, D], the rest [C]
     labels: jax.Array  # [C, N] int32, -1 where masked
-    silhouettes: np.ndarray  # [C, len(ks)]
+    silhouettes: np.ndarray  # [C, len(ks)], NaN for the ks a problem never fitted (past its break)
     ks: tuple[int, ...]
 
 
@@ -219,15 +221,12 @@ def _weighted_choice(u: jax.Array, weights: jax.Array) -> jax.Array:
     return jnp.minimum(jnp.searchsorted(cumulative, targets, method="compare_all"), weights.shape[0] - 1)
 
 
-def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array, n_active) -> jax.Array:
+def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array) -> jax.Array:
     """Greedy k-means++ seeds of ``x [N, D]`` with sample weights ``w [N]`` -> ``[K, D]``.
 
-    ``u [K, T]`` uniforms: ``u[0, 0]`` picks the first center, ``u[c]`` the candidates of center c. Only
-    the first ``n_active`` (traced) centers are seeded, each with ``2 + ⌊ln n_active⌋ ≤ T`` candidates;
-    the rest stay 0.
+    ``u [K, T]`` uniforms: ``u[0, 0]`` picks the first center, ``u[c]`` the T candidates of center c.
     """
-    k, t = u.shape
-    trials = jnp.asarray([_n_trials(max(j, 1)) for j in range(k + 1)])[n_active]
+    k = u.shape[0]
     first = x[_weighted_choice(u[0, 0], w)]
     closest = jnp.sum((x - first) ** 2, axis=-1)
 
@@ -237,10 +236,8 @@ def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array, n_active) -> jax.Array:
         p = jnp.where(closest @ w > 0, w * closest, w)
         candidates = x[_weighted_choice(u[c], p)]  # [T, D]
         dist = jnp.minimum(closest, jnp.sum((candidates[:, None] - x[None]) ** 2, axis=-1))  # [T, N]
-        best = jnp.argmin(jnp.where(jnp.arange(t) < trials, dist @ w, jnp.inf))
-        seed = c < n_active
-        return (centers.at[c].set(jnp.where(seed, candidates[best], centers[c])),
-                jnp.where(seed, dist[best], closest))
+        best = jnp.argmin(dist @ w)
+        return centers.at[c].set(candidates[best]), dist[best]
 
     centers = jnp.zeros((k, x.shape[1]), x.dtype).at[0].set(first)
     return jax.lax.fori_loop(1, k, add_center, (centers, closest))[0]
@@ -252,24 +249,23 @@ def kmeans_plusplus(key: jax.Array, x: jax.Array, k: int, mask: jax.Array | None
     k = _check_k(k)
     x, mask = _check_data(x, mask, k)
     u = jax.random.uniform(key, (k, _n_trials(k)), x.dtype)
-    return _plusplus(u, x, mask.astype(x.dtype), k)
+    return _plusplus(u, x, mask.astype(x.dtype))
 
 
-def _assign(x: jax.Array, centers: jax.Array, active: jax.Array) -> jax.Array:
-    """Nearest active center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
+def _assign(x: jax.Array, centers: jax.Array) -> jax.Array:
+    """Nearest center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
     scores = jnp.sum(centers**2, axis=-1) - 2.0 * jnp.matmul(x, centers.T, precision=_HIGHEST)
-    return jnp.argmin(jnp.where(active, scores, jnp.inf), axis=-1).astype(jnp.int32)
+    return jnp.argmin(scores, axis=-1).astype(jnp.int32)
 
 
-def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array,
-                    active: jax.Array) -> jax.Array:
+def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array) -> jax.Array:
     """Lloyd's center update with sklearn's relocation of empty clusters -> new centers ``[K, D]``."""
     k = centers.shape[0]
     onehot = jax.nn.one_hot(labels, k, dtype=x.dtype) * w[:, None]
     mass, sums = onehot.sum(axis=0), jnp.matmul(onehot.T, x, precision=_HIGHEST)
     # The j-th empty cluster takes the j-th valid sample farthest from its own center, which leaves its
     # cluster (sklearn's _relocate_empty_clusters_dense).
-    empty = (mass == 0) & active
+    empty = mass == 0
     spread = jnp.where(w > 0, jnp.sum((x - centers[labels]) ** 2, axis=-1), -1.0)
     donors = jax.lax.top_k(spread, k)[1][jnp.cumsum(empty) - 1]  # [K], meaningful where empty
     moved = jnp.where(empty, w[donors], 0.0)
@@ -281,22 +277,20 @@ def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.
     return jnp.where(mass[:, None] > 0, sums / jnp.where(mass > 0, mass, 1.0)[:, None], sums)
 
 
-def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, n_active, max_iter, tol) -> KMeans:
+def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, max_iter, tol) -> KMeans:
     """One k-means restart on centred ``x [N, D]``, weights ``w [N]``, seeds from ``u [K, T]``; ``tol`` is
     absolute (summed squared center shift)."""
-    active = jnp.arange(u.shape[0]) < n_active
-
     def step(state):
         centers, labels_old, it, _ = state
-        labels = _assign(x, centers, active)
-        new = _update_centers(x, w, centers, labels, active)
+        labels = _assign(x, centers)
+        new = _update_centers(x, w, centers, labels)
         unchanged = jnp.all((labels == labels_old) | (w == 0))
         return new, labels, it + 1, unchanged | (jnp.sum((new - centers) ** 2) <= tol)
 
-    state = (_plusplus(u, x, w, n_active), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0),
+    state = (_plusplus(u, x, w), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0),
              jnp.bool_(False))
     centers, _, n_iter, _ = jax.lax.while_loop(lambda s: ~s[3] & (s[2] < max_iter), step, state)
-    labels = _assign(x, centers, active)
+    labels = _assign(x, centers)
     inertia = jnp.sum(w * jnp.sum((x - centers[labels]) ** 2, axis=-1))
     return KMeans(centers, jnp.where(w > 0, labels, -1), inertia, n_iter)
 
@@ -329,7 +323,7 @@ def kmeans(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = Non
     x, mean = _center(x, w)
     tol = _absolute_tol(x, w, tol)
     u = jax.random.uniform(key, (n_init, k, _n_trials(k)), x.dtype)
-    fits = jax.vmap(lambda u_r: _lloyd(u_r, x, w, k, max_iter, tol))(u)
+    fits = jax.vmap(lambda u_r: _lloyd(u_r, x, w, max_iter, tol))(u)
     best = jax.tree.map(lambda a: a[jnp.argmin(fits.inertia)], fits)
     return best._replace(centers=best.centers + mean)
 
@@ -362,17 +356,16 @@ def _weighted_log_prob(weights, means, prec_chol, x) -> jax.Array:
     return _log_gaussians(x, means, prec_chol) + jnp.log(weights)
 
 
-def _m_step(x: jax.Array, resp: jax.Array, reg_covar, active: jax.Array):
+def _m_step(x: jax.Array, resp: jax.Array, reg_covar):
     """sklearn's M-step from responsibilities ``resp [N, K]`` (0 on masked rows) -> weights, means,
-    covariances (``reg_covar`` on the diagonal); an inactive component gets weight 0 and mean 0."""
-    nk = jnp.where(active, resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps, 0.0)
-    safe = jnp.where(active, nk, 1.0)
-    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / safe[:, None]
+    covariances (``reg_covar`` on the diagonal)."""
+    nk = resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps
+    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / nk[:, None]
     # Deviations from each mean, not the second moment about the origin: a covariance made of weighted
     # outer products stays positive semi-definite whatever the float32 rounding.
     diff = x[None] - means[:, None]  # [K, N, D]
     cov = jnp.einsum("knd,kne->kde", resp.T[:, :, None] * diff, diff, precision=_HIGHEST)
-    cov = cov / safe[:, None, None] + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
+    cov = cov / nk[:, None, None] + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
     return nk / nk.sum(), means, cov
 
 
@@ -396,12 +389,12 @@ def _em_running(s: _EMState, max_iter) -> jax.Array:
     return ~s.converged & (s.n_iter < max_iter)
 
 
-def _em_step(x, w, active, tol, reg_covar, s: _EMState) -> _EMState:
+def _em_step(x, w, tol, reg_covar, s: _EMState) -> _EMState:
     """One E-step (whose mean log-likelihood is the new lower bound) and M-step on ``x [N, D]``."""
     log_prob = _weighted_log_prob(s.weights, s.means, s.prec_chol, x)
     norm = jax.nn.logsumexp(log_prob, axis=-1)
     bound = (w @ norm) / w.sum()
-    weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar, active)
+    weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar)
     return _EMState(weights, means, cov, _precision_cholesky(cov), bound, s.n_iter + 1,
                     jnp.abs(bound - s.lower_bound) < tol)
 
@@ -410,16 +403,18 @@ def _em_result(s: _EMState) -> GaussianMixture:
     return GaussianMixture(s.weights, s.means, s.covariances, s.lower_bound, s.converged, s.n_iter)
 
 
-def _em(x, w, weights, means, covariances, active, max_iter, tol, reg_covar) -> GaussianMixture:
+def _em(x, w, weights, means, covariances, max_iter, tol, reg_covar) -> GaussianMixture:
     """EM on ``x [N, D]`` (masked rows 0, weights ``w [N]``) from the given parameters."""
-    step = functools.partial(_em_step, x, w, active, tol, reg_covar)
+    step = functools.partial(_em_step, x, w, tol, reg_covar)
     start = _em_start(weights, means, covariances)
     return _em_result(jax.lax.while_loop(lambda s: _em_running(s, max_iter), step, start))
 
 
-def _em_pool(x, w, owner, active, start: _EMState, max_iter, tol, reg_covar, width: int) -> GaussianMixture:
+def _em_pool(x, w, owner, start: _EMState, max_iter, tol, reg_covar, width: int,
+             count: jax.Array | None = None) -> GaussianMixture:
     """EM for B problems ``start`` (leaves ``[B, ...]``) on the data ``x [C, N, D]``, ``w [C, N]`` of
-    their problem ``owner [B]``, with ``active [B, K]`` components, ``width`` (static) at a time.
+    their problem ``owner [B]``, ``width`` (static) at a time; only the first ``count`` (traced, default
+    B) are fitted, the others keep their start.
 
     A vmapped ``while_loop`` runs every problem as long as the slowest (EM from k-means starts on
     ODMO-sized problems: a median of 2 iterations, a mean of 5, a tail of 30). Here ``width`` slots each
@@ -427,15 +422,16 @@ def _em_pool(x, w, owner, active, start: _EMState, max_iter, tol, reg_covar, wid
     iterations plus one tail; every problem gets exactly the iterations it would get alone.
     """
     b = owner.shape[0]
-    step = jax.vmap(_em_step, in_axes=(0, 0, 0, None, None, 0))
+    count = b if count is None else count
+    step = jax.vmap(_em_step, in_axes=(0, 0, None, None, 0))
 
     def body(carry):
         states, slots, pending = carry
-        live = slots < b
+        live = slots < count
         index = jnp.minimum(slots, b - 1)
         current = jax.tree.map(lambda a: a[index], states)
         run = live & _em_running(current, max_iter)
-        new = step(x[owner[index]], w[owner[index]], active[index], tol, reg_covar, current)
+        new = step(x[owner[index]], w[owner[index]], tol, reg_covar, current)
         new = jax.tree.map(lambda n, c: jnp.where(run.reshape((-1,) + (1,) * (n.ndim - 1)), n, c), new, current)
         states = jax.tree.map(lambda a, n: a.at[jnp.where(live, slots, b)].set(n, mode="drop"), states, new)
         free = ~live | ~_em_running(new, max_iter)
@@ -444,7 +440,7 @@ def _em_pool(x, w, owner, active, start: _EMState, max_iter, tol, reg_covar, wid
 
     width = min(width, b)
     carry = (start, jnp.arange(width), jnp.int32(width))
-    return _em_result(jax.lax.while_loop(lambda c: jnp.any(c[1] < b), body, carry)[0])
+    return _em_result(jax.lax.while_loop(lambda c: jnp.any(c[1] < count), body, carry)[0])
 
 
 def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.Array, *,
@@ -470,26 +466,24 @@ def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.
         raise ValueError(f"x: expected [N, D] = [N, {means.shape[1]}], got {tuple(x.shape)}")
     w = mask.astype(x.dtype)
     x, mean = _center(x, w)
-    fit = _em(x, w, weights, means - mean, covariances, jnp.ones(weights.shape, bool), max_iter, tol, reg_covar)
+    fit = _em(x, w, weights, means - mean, covariances, max_iter, tol, reg_covar)
     return fit._replace(means=fit.means + mean)
 
 
-def _gmm_starts(u, x, w, n_active, init, reg_covar, kmeans_max_iter, kmeans_tol):
+def _gmm_starts(u, x, w, init, reg_covar, kmeans_max_iter, kmeans_tol):
     """The starting parameters of the restarts ``u`` (``[R, K, T]`` k-means++ uniforms for
-    ``init="kmeans"``, ``[R, N, K]`` responsibilities for ``"random"``) on centred ``x [N, D]``, with the
-    first ``n_active`` of K slots -> weights ``[R, K]``, means ``[R, K, D]``, covariances ``[R, K, D, D]``."""
+    ``init="kmeans"``, ``[R, N, K]`` responsibilities for ``"random"``) on centred ``x [N, D]`` -> weights
+    ``[R, K]``, means ``[R, K, D]``, covariances ``[R, K, D, D]``."""
     k = u.shape[-1] if init == "random" else u.shape[1]
-    active = jnp.arange(k) < n_active
     kmeans_tol = _absolute_tol(x, w, kmeans_tol)
 
     def start(u_r):
         if init == "kmeans":
-            labels = _lloyd(u_r, x, w, n_active, kmeans_max_iter, kmeans_tol).labels
+            labels = _lloyd(u_r, x, w, kmeans_max_iter, kmeans_tol).labels
             resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
         else:
-            resp = u_r * active
-            resp = resp / resp.sum(axis=1, keepdims=True) * w[:, None]
-        return _m_step(x, resp, reg_covar, active)
+            resp = u_r / u_r.sum(axis=1, keepdims=True) * w[:, None]
+        return _m_step(x, resp, reg_covar)
 
     return jax.vmap(start)(u)
 
@@ -532,9 +526,8 @@ def fit_gmm(key: jax.Array, x: jax.Array, k: int, *, mask: jax.Array | None = No
     w = mask.astype(x.dtype)
     x, mean = _center(x, w)
     u = jax.random.uniform(key, _restart_shape(init, n_init, x.shape[0], k), x.dtype)
-    starts = _gmm_starts(u, x, w, k, init, reg_covar, kmeans_max_iter, kmeans_tol)
-    active = jnp.ones((k,), bool)
-    fits = jax.vmap(lambda s: _em(x, w, *s, active, max_iter, tol, reg_covar))(starts)
+    starts = _gmm_starts(u, x, w, init, reg_covar, kmeans_max_iter, kmeans_tol)
+    fits = jax.vmap(lambda s: _em(x, w, *s, max_iter, tol, reg_covar))(starts)
     best = _best_restart(fits)
     return best._replace(means=best.means + mean)
 
@@ -677,11 +670,16 @@ def choose_k(silhouettes: Mapping[int, float] | Sequence[float], ks: Sequence[in
             raise ValueError(f"ks: expected one k per silhouette ({len(s)}), got {ks!r}")
     if not s:
         raise ValueError("silhouettes: expected at least one value, got none")
+    index = _break_index(s, rule)
+    return int(ks[len(s) - 1 if index is None else index])
+
+
+def _break_index(s: Sequence[float], rule: str) -> int | None:
+    """The index of the k that ``rule`` chooses at its first break in ``s``, None while it has not broken.
+    Either rule decides from a prefix of the silhouettes, so the ks after its break need no fit."""
     if rule == "code":
-        index = next((j - 1 for j in range(1, len(s)) if s[j] < _RATIO * s[j - 1]), len(s) - 1)
-    else:
-        index = next((i for i in range(len(s) - 1) if s[i] > _RATIO * s[i + 1]), len(s) - 1)
-    return int(ks[index])
+        return next((j - 1 for j in range(1, len(s)) if s[j] < _RATIO * s[j - 1]), None)
+    return next((i for i in range(len(s) - 1) if s[i] > _RATIO * s[i + 1]), None)
 
 
 def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
@@ -692,61 +690,77 @@ def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
     return ks
 
 
-def _fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init, pool_share=_POOL_SHARE):
-    """For C problems ``x [C, N, D]``, ``mask [C, N]`` and every k of ``ks``: the GMM (``max(ks)`` slots,
-    the first k active), its labels and their silhouette -> leaves ``[C, len(ks), ...]``.
+def _fit_k(keys, x, mask, live, k, n_init, max_iter, tol, reg_covar, init, pool_share=_POOL_SHARE):
+    """For C problems ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` with keys ``[C]``: the GMM with k
+    (static) components, its labels and their silhouette -> leaves ``[C, ...]``.
 
-    The C · len(ks) · n_init EM runs share one pool of ``⌈runs / pool_share⌉`` slots (:func:`_em_pool`).
+    Problem c's restarts read one uniform draw from ``fold_in(keys[c], k)``; the EM runs of the problems
+    that are ``live [C]`` share one pool of ``⌈C · n_init / pool_share⌉`` slots (:func:`_em_pool`), the
+    others' are skipped (their results are meaningless; their silhouettes NaN).
     """
     c, n, _ = x.shape
-    k_max, n_ks = ks[-1], len(ks)
     w = mask.astype(x.dtype)
     x, mean = jax.vmap(_center)(x, w)
-    # One draw per problem for every k and restart: each random-bits call costs seconds of compilation.
-    shape = (n_ks, *_restart_shape(init, n_init, n, k_max))
-    u = jax.vmap(lambda key: jax.random.uniform(key, shape, x.dtype))(keys)
-    n_active = jnp.asarray(ks)
+    u = jax.vmap(lambda key: jax.random.uniform(jax.random.fold_in(key, k), _restart_shape(init, n_init, n, k),
+                                                x.dtype))(keys)
+    starts = jax.vmap(lambda u_c, x_c, w_c: _gmm_starts(u_c, x_c, w_c, init, reg_covar, *_KMEANS_INIT))(u, x, w)
+    runs = c * n_init
+    owner = jnp.repeat(jnp.arange(c), n_init)
+    order = jnp.argsort(~live[owner], stable=True)  # the live problems' runs first, for the pool to take
+    flat = jax.tree.map(lambda a: a.reshape(runs, *a.shape[2:])[order], starts)
+    fits = _em_pool(x, w, owner[order], _em_start(*flat), max_iter, tol, reg_covar, -(-runs // pool_share),
+                    live[owner].sum())
+    fits = jax.tree.map(lambda a: a[jnp.argsort(order)].reshape(c, n_init, *a.shape[1:]), fits)
+    gmm = jax.vmap(_best_restart)(fits)
 
-    def starts_k(u_k, n_k, x_c, w_c):
-        return _gmm_starts(u_k, x_c, w_c, n_k, init, reg_covar, *_KMEANS_INIT)
+    def score(gmm_c, x_c, mask_c):
+        labels = jnp.where(mask_c, jnp.argmax(_mixture_log_prob(gmm_c, x_c), axis=-1).astype(jnp.int32), -1)
+        return labels, _silhouette(x_c, mask_c, labels, k)
 
-    starts = jax.vmap(jax.vmap(starts_k, in_axes=(0, 0, None, None)), in_axes=(0, None, 0, 0))(u, n_active, x, w)
-    runs = c * n_ks * n_init
-    owner = jnp.repeat(jnp.arange(c), n_ks * n_init)
-    active = jnp.broadcast_to(jnp.arange(k_max) < n_active[:, None, None], (c, n_ks, n_init, k_max))
-    flat = jax.tree.map(lambda a: a.reshape(runs, *a.shape[3:]), starts)
-    fits = _em_pool(x, w, owner, active.reshape(runs, k_max), _em_start(*flat), max_iter, tol, reg_covar,
-                    -(-runs // pool_share))
-    fits = jax.tree.map(lambda a: a.reshape(c, n_ks, n_init, *a.shape[1:]), fits)
-    gmm = jax.vmap(jax.vmap(_best_restart))(fits)
-
-    def score(gmm_ck, x_c, mask_c):
-        labels = jnp.argmax(_mixture_log_prob(gmm_ck, x_c), axis=-1).astype(jnp.int32)
-        labels = jnp.where(mask_c, labels, -1)
-        return labels, _silhouette(x_c, mask_c, labels, k_max)
-
-    labels, silhouettes = jax.vmap(jax.vmap(score, in_axes=(0, None, None)))(gmm, x, mask)
-    means = jnp.where(active[:, :, 0, :, None], gmm.means + mean[:, None, None], 0.0)
-    return gmm._replace(means=means), labels, silhouettes
+    labels, silhouettes = jax.vmap(score)(gmm, x, mask)
+    return gmm._replace(means=gmm.means + mean[:, None]), labels, jnp.where(live, silhouettes, jnp.nan)
 
 
-_STATIC = ("ks", "n_init", "init", "pool_share")
+_STATIC = ("k", "n_init", "init", "pool_share")
 # On a CPU, LLVM at -O1 instead of XLA's default -O2 compiles the kernel in ~60 % of the time and runs it
-# as fast (12 problems × 300 × 20, ks 3..9: 12 s against 19 s of compile CPU time, 1.8 s runs both).
-_fit_every_k_cpu = jax.jit(_fit_every_k, static_argnames=_STATIC,
-                           compiler_options={"xla_backend_optimization_level": 1})
-_fit_every_k_any = jax.jit(_fit_every_k, static_argnames=_STATIC)
+# as fast (measured on the kernel that fitted every k at once: 12 s against 19 s of compile CPU time).
+_fit_k_cpu = jax.jit(_fit_k, static_argnames=_STATIC, compiler_options={"xla_backend_optimization_level": 1})
+_fit_k_any = jax.jit(_fit_k, static_argnames=_STATIC)
+
+
+def _slots(gmm: GaussianMixture, k_max: int, reg_covar: float) -> GaussianMixture:
+    """Problems' mixtures ``[C, k, ...]`` padded to ``k_max`` component slots (weight 0, mean 0,
+    covariance ``reg_covar · I``)."""
+    c, k, d = gmm.means.shape
+    pad = k_max - k
+    eye = jnp.broadcast_to(reg_covar * jnp.eye(d, dtype=gmm.means.dtype), (c, pad, d, d))
+    return gmm._replace(weights=jnp.pad(gmm.weights, ((0, 0), (0, pad))),
+                        means=jnp.pad(gmm.means, ((0, 0), (0, pad), (0, 0))),
+                        covariances=jnp.concatenate([gmm.covariances, eye], axis=1))
 
 
 def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:
-    """The modes of ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` (validated) with problem keys ``[C]``."""
-    fit_every_k = _fit_every_k_cpu if jax.default_backend() == "cpu" else _fit_every_k_any
-    gmm, labels, scores = fit_every_k(keys, x, mask, ks, n_init, max_iter, tol, reg_covar, init)
-    silhouettes = np.asarray(scores, np.float64)
+    """The modes of ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` (validated) with problem keys ``[C]``.
+
+    Fits k = ks[0], ks[1], ... one kernel call per k, each problem until its rule has broken
+    (:func:`_break_index`), as the authors' loop stops at its break; silhouettes of the ks a problem
+    never fitted are NaN.
+    """
+    fit_k = _fit_k_cpu if jax.default_backend() == "cpu" else _fit_k_any
+    silhouettes = np.full((x.shape[0], len(ks)), np.nan)
+    live = np.ones(x.shape[0], bool)
+    fits = []
+    for j, k in enumerate(ks):
+        gmm, labels, scores = fit_k(keys, x, mask, jnp.asarray(live), k, n_init, max_iter, tol, reg_covar, init)
+        fits.append((_slots(gmm, ks[-1], reg_covar), labels))
+        silhouettes[live, j] = np.asarray(scores, np.float64)[live]
+        live = np.array([_break_index(row[:j + 1], rule) is None for row in silhouettes])
+        if not live.any():
+            break
     index = np.array([ks.index(choose_k(row, ks, rule=rule)) for row in silhouettes])
     problems = np.arange(x.shape[0])
-    gmm = jax.tree.map(lambda a: a[problems, index], gmm)
-    return ModesBatch(np.asarray(ks)[index], gmm, labels[problems, index], silhouettes, ks)
+    gmm, labels = jax.tree.map(lambda *a: jnp.stack(a)[index, problems], *fits)
+    return ModesBatch(np.asarray(ks)[index], gmm, labels, silhouettes, ks)
 
 
 def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None = None, *,
@@ -762,12 +776,13 @@ def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None 
       rule: ``"code"`` or ``"paper"`` (:func:`choose_k`).
       n_init, max_iter, tol, reg_covar, init: the GMM fits (:func:`fit_gmm`; ODMO: k-means init, 5).
 
-    One jitted call fits every k of every problem (the fit with k in ``max(ks)`` slots, the first k
-    active; k-means starts vmapped over problems, ks and restarts, EM runs in a shared pool) and scores
-    each fit's predicted labels; the choice of k runs on the host. A problem's fits read one uniform draw
-    ``[len(ks), n_init, ...]`` from its key, so they differ in their draws (not in distribution) from
-    :func:`fit_gmm` calls. Raises ValueError when a problem has fewer valid samples than the largest k.
-    Returns a :class:`ModesBatch`.
+    One jitted call per k fits every problem with k components (k-means starts vmapped over problems and
+    restarts, EM runs in a shared pool) and scores each fit's predicted labels; the ks run in increasing
+    order until every problem's rule has broken, as the authors' loop stops at its break, so the chosen k
+    is the one a sweep over every k would choose. Silhouettes of the ks a problem never fitted are NaN. Problem c's
+    fit with k components reads one uniform draw from ``fold_in(split(key, C)[c], k)``, whichever ks run
+    before it, so it differs in its draws (not in distribution) from a :func:`fit_gmm` call. Raises
+    ValueError when a problem has fewer valid samples than the largest k. Returns a :class:`ModesBatch`.
     """
     ks = _resolve_ks(ks, rule)
     _check_init(init)
@@ -792,8 +807,9 @@ def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None 
 def discover_modes(key: jax.Array, x: jax.Array, *, mask: jax.Array | None = None,
                    ks: Sequence[int] | None = None, rule: str = "code", n_init: int = 5, max_iter: int = 100,
                    tol: float = 1e-3, reg_covar: float = 1e-6, init: str = "kmeans") -> Modes:
-    """ODMO's mode discovery for one problem ``x [N, D]`` (``mask [N]``): fit a GMM for every k of
-    ``ks``, score its predicted labels with :func:`silhouette_score`, choose k by ``rule``.
+    """ODMO's mode discovery for one problem ``x [N, D]`` (``mask [N]``): fit a GMM for k = ks[0],
+    ks[1], ... until ``rule`` breaks, score each one's predicted labels with :func:`silhouette_score`,
+    choose k by ``rule``.
 
     Arguments as :func:`discover_modes_batched`, whose problem c this is when called with
     ``split(key, C)[c]``. Returns :class:`Modes` with the mixture at the chosen k (k components).

@@ -175,6 +175,29 @@ def test_discover_batched_equals_per_problem_calls():
     assert (np.asarray(batch.labels[0, -PAD:]) == -1).all()
 
 
+def test_discovery_stops_at_every_break_and_chooses_as_the_full_sweep():
+    # Three blobs break at k = 4, five at k = 6: each problem's fits stop there, and the sweep after k = 6.
+    rng = np.random.default_rng(5)
+    angles = 2 * np.pi * np.arange(5) / 5
+    five = 10.0 * np.stack([np.cos(angles), np.sin(angles), np.zeros(5)], axis=1)[np.arange(N) % 5]
+    x = np.stack([blobs(8)[0], (five + rng.normal(size=(N, D))).astype(np.float32)])
+    key, ks = jax.random.key(4), range(3, 9)
+    batch = mx.discover_modes_batched(key, x, ks=ks)
+    # Each k alone reads the same draws (fold_in of the problem's key by k), so it gives the full sweep.
+    alone = [mx.discover_modes_batched(key, x, ks=[k]) for k in ks]
+    full = np.stack([one.silhouettes[:, 0] for one in alone], axis=1)
+    assert list(batch.k) == [3, 5]
+    assert [mx.choose_k(row, list(ks)) for row in full] == [3, 5]
+    for c, fitted in enumerate([2, 4]):  # k = 3..4 and 3..6
+        np.testing.assert_allclose(batch.silhouettes[c, :fitted], full[c, :fitted], rtol=1e-6)
+        assert np.isnan(batch.silhouettes[c, fitted:]).all()
+    for c, k in enumerate(batch.k):
+        chosen = alone[k - 3]
+        np.testing.assert_array_equal(batch.labels[c], chosen.labels[c])
+        np.testing.assert_allclose(batch.gmm.means[c, :k], chosen.gmm.means[c], rtol=1e-6)
+        assert (np.asarray(batch.gmm.weights[c, k:]) == 0).all() and batch.gmm.means.shape[1] == 8
+
+
 def test_silhouette_is_invariant_to_sample_order():
     x, labels = blobs(4)
     perm = np.random.default_rng(0).permutation(N)
@@ -232,8 +255,8 @@ def test_em_pool_gives_every_run_its_own_iterations():
     owner = np.array([0, 1, 0, 1, 0, 0])
     starts = [start_params(data[o], seed=i) for i, o in enumerate(owner)]
     weights, means, covariances = (np.stack(p).astype(np.float32) for p in zip(*starts))
-    pooled = jax.jit(mx._em_pool, static_argnums=8)(
-        jnp.asarray(data), jnp.ones((2, N)), jnp.asarray(owner), jnp.ones((6, K), bool),
+    pooled = jax.jit(mx._em_pool, static_argnums=7)(
+        jnp.asarray(data), jnp.ones((2, N)), jnp.asarray(owner),
         mx._em_start(jnp.asarray(weights), jnp.asarray(means), jnp.asarray(covariances)), 100, 1e-3, 1e-6, 2)
     for i, o in enumerate(owner):
         alone = gmm_em(data[o], *starts[i])
