@@ -34,8 +34,8 @@ frames, code 20):
   jaxmotion's ``decode_motion`` does).
 * **Sampling**: ``--per-class`` (250, the protocol's HumanAct12 count) codes per class x 12 classes = 3 000
   motions from given codes, classes and end roots, no teacher forcing. jaxmotion: ``models.odmo.generate``
-  jitted over all rows at once, and the pipeline's ``generate_from_codes`` (host arrays in and out, chunks of
-  512, as every sampler calls it); PyTorch: the peer's ``generate`` over all rows in eval mode under
+  jitted over all rows at once, and the pipeline's ``generate_from_codes`` (host arrays in and out, in its
+  default chunks of 2 048 rows); PyTorch: the peer's ``generate`` over all rows in eval mode under
   ``torch.inference_mode``.
 * **Mode discovery** for every class: 12 classes of ~``--codes`` 20-dimensional codes (counts vary by ±10%
   between classes), each class drawn from its own mixture of 2-4 Gaussians (a stand-in for a trained code

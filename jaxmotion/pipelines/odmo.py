@@ -261,10 +261,14 @@ def _generate_rows(params: ODMOParams, codes: jax.Array, actions: jax.Array, end
     return generate(params, codes, actions, ends, config)
 
 
-def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, ends, *, chunk: int = 512
+def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, ends, *, chunk: int = 2048
                         ) -> dict[str, np.ndarray]:
     """Motions from ``codes [N, Z]``, ``actions [N]`` and requested end roots ``ends [N, 3]`` (the batch dict
-    of the module docstring, with the trajectory generator's path as ``trajectory [N, T, 3]``)."""
+    of the module docstring, with the trajectory generator's path as ``trajectory [N, T, 3]``).
+
+    ``chunk`` rows per compiled call: the recurrences' matrix products run faster on more rows (3 000
+    HumanAct12 motions on 2 CPU cores: 2.2-2.5 s in chunks of 512, 1.9 s in chunks of 1 500 or more); the
+    trajectory generator's first layer holds ``chunk × in·(T−1)`` floats (UESTC: 2 048 × 803·59, 390 MB)."""
     codes, ends = np.asarray(codes, np.float32), np.asarray(ends, np.float32)
     actions = np.asarray(actions)
     if codes.ndim != 2 or codes.shape[1] != config.code_dim:
