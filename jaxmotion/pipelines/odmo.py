@@ -266,9 +266,10 @@ def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, 
     """Motions from ``codes [N, Z]``, ``actions [N]`` and requested end roots ``ends [N, 3]`` (the batch dict
     of the module docstring, with the trajectory generator's path as ``trajectory [N, T, 3]``).
 
-    ``chunk`` rows per compiled call: the recurrences' matrix products run faster on more rows (3 000
-    HumanAct12 motions on 2 CPU cores: 2.2-2.5 s in chunks of 512, 1.9 s in chunks of 1 500 or more); the
-    trajectory generator's first layer holds ``chunk × in·(T−1)`` floats (UESTC: 2 048 × 803·59, 390 MB)."""
+    At most ``chunk`` rows per compiled call, in chunks of equal size (the last one is padded): the
+    recurrences' matrix products run faster on more rows (3 000 HumanAct12 motions on 2 CPU cores: 2.2-2.5 s
+    in chunks of 512, 1.9 s in chunks of 1 500 or more); the trajectory generator's first layer holds
+    ``chunk × in·(T−1)`` floats (UESTC: 2 048 × 803·59, 390 MB)."""
     codes, ends = np.asarray(codes, np.float32), np.asarray(ends, np.float32)
     actions = np.asarray(actions)
     if codes.ndim != 2 or codes.shape[1] != config.code_dim:
@@ -279,8 +280,9 @@ def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, 
     if actions.shape != (n,) or ends.shape != (n, 3):
         raise ValueError(f"actions, ends: expected [{n}] and [{n}, 3], got {actions.shape} and {ends.shape}")
     check_actions(actions, config.num_classes)
+    size = -(-n // -(-n // chunk))  # the fewest chunks of at most `chunk` rows, as equal as can be
     out = map_in_chunks(lambda _, rows: _generate_rows(params, *(jnp.asarray(a) for a in rows), config),
-                        (codes, actions, ends), chunk)
+                        (codes, actions, ends), size)
     joints = np.asarray(unflatten_poses(out["poses"]))
     t = config.num_frames
     return {"joints": joints, "translation": joints[:, :, 0].copy(), "mask": np.ones((n, t), bool),
