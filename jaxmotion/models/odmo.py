@@ -43,7 +43,9 @@ with PyTorch's shapes and default initialisation; BatchNorm running statistics a
 
 **Speed** (same numbers up to float32 summation order): the condition's share of each embedding
 (``outer(one-hot, z) @ W_cond``) is constant over a sequence, so it is computed once per sequence, not
-once per frame; the trajectory generator's per-frame layers run on the whole sequence at once.
+once per frame; the trajectory generator's per-frame layers run on the whole sequence at once; on a CPU
+every recurrence's step is recomputed in the backward pass instead of stored
+(:func:`jaxmotion.nn.recurrent.recompute_on_cpu`: a 512-pair training step 5.3 -> 2.8 s on 2 cores).
 """
 
 from __future__ import annotations
@@ -68,7 +70,14 @@ from jaxmotion.nn.core import (
     linear,
     prelu,
 )
-from jaxmotion.nn.recurrent import LSTMParams, LSTMState, init_lstm_stack, lstm_stack, lstm_stack_step
+from jaxmotion.nn.recurrent import (
+    LSTMParams,
+    LSTMState,
+    init_lstm_stack,
+    lstm_stack,
+    lstm_stack_step,
+    recompute_on_cpu,
+)
 
 # ------------------------------------------------------------------------------------------------- config
 
@@ -420,7 +429,7 @@ def decode_motion(params: ODMOParams, code: jax.Array, actions: jax.Array, traje
         return (state, jnp.where(forced[:, None], true_pose, out)), out
 
     carry = (LSTMState(state.h, state.c), jnp.zeros((b, f), jnp.float32))
-    _, poses = jax.lax.scan(step, carry, (time_feature(t_len), teacher, teacher_mask))
+    _, poses = jax.lax.scan(recompute_on_cpu(step), carry, (time_feature(t_len), teacher, teacher_mask))
     return jnp.swapaxes(poses, 0, 1)
 
 

@@ -16,7 +16,8 @@ without reshuffling. Per layer ``w_ih [G·H, D]``, ``w_hh [G·H, H]``, ``b_ih [G
     c' = f ⊙ c + i ⊙ g                                h' = o ⊙ tanh(c')
 
 A stack runs its layers in one ``lax.scan`` step per frame (layer l reads layer l−1's new output), which
-halves the loop trips of running the layers one after another and gives the same numbers. The stacked
+halves the loop trips of running the layers one after another and gives the same numbers. On a CPU the LSTM
+stack's step is recomputed in the backward pass rather than stored (:func:`recompute_on_cpu`). The stacked
 step functions (:func:`gru_stack_step`, :func:`lstm_stack_step`) serve autoregressive decoders, which feed
 each output back as the next input.
 
@@ -75,6 +76,15 @@ def init_lstm_stack(key: jax.Array, input_dim: int, hidden: int, layers: int) ->
     (``torch.nn.LSTM(input_dim, hidden, layers)``'s ``*_l0``, ``*_l1``, ...)."""
     keys = jax.random.split(key, layers)
     return tuple(init_lstm(k, input_dim if i == 0 else hidden, hidden) for i, k in enumerate(keys))
+
+
+def recompute_on_cpu(step):
+    """A ``lax.scan`` step whose activations, on a CPU, are recomputed in the backward pass instead of stored
+    per frame (``jax.checkpoint``): there, writing and reading every frame's gates costs more than computing
+    them again (measured on 2 cores: a 2 x 128 LSTM over 1 024 x 60, forward + backward, 835 -> 715 ms; an
+    ODMO training step of 512 pairs 5.3 -> 2.8 s). The values are the same. Other backends keep XLA's
+    default (not measured)."""
+    return jax.checkpoint(step) if jax.default_backend() == "cpu" else step
 
 
 def gru_cell(p: GRUParams, h: jax.Array, x: jax.Array) -> jax.Array:
@@ -147,5 +157,5 @@ def lstm_stack(layers: tuple[LSTMParams, ...], xs: jax.Array, state: LSTMState |
     if state.h.shape != expected or state.c.shape != expected:
         raise ValueError(f"state: expected h and c of shape {list(expected)} (L, B, H), got "
                          f"{tuple(state.h.shape)} and {tuple(state.c.shape)}")
-    final, outputs = jax.lax.scan(lambda s, x: lstm_stack_step(layers, s, x), state, xs)
+    final, outputs = jax.lax.scan(recompute_on_cpu(lambda s, x: lstm_stack_step(layers, s, x)), state, xs)
     return outputs, final
