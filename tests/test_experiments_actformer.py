@@ -99,7 +99,11 @@ def test_multi_person_table_scores_the_pair_and_its_aggregated_persons(tmp_path,
 
     rows = _smoke(actformer_multi, tmp_path, monkeypatch, cache)
     assert [row for row in rows if not row.endswith("(reported)")] == ["Real", "ActFormer"]
-    assert list(rows["ActFormer"]) == list(actformer_multi.NTU2P)
+    combat = [f"Combat {p}P FIDa" for p in range(2, 6)]
+    assert list(rows["ActFormer"]) == list(actformer_multi.NTU2P) + combat
+    assert list(rows["Real"]) == list(rows["ActFormer"])
     assert rows["CSGN (reported)"]["Combat 5P FIDa"] == 4.02
-    for column in actformer_multi.NTU2P[1:]:  # the real windows' second draw lies nearer than the generator
+    for column in actformer_multi.NTU2P[1:] + tuple(combat):  # the real second draw lies nearer than the generator
         assert rows["Real"][column]["mean"] < rows["ActFormer"][column]["mean"], column
+    workdir = tmp_path / "actformer_multi" / "smoke" / "seed-0"
+    assert (workdir / "combat-5p" / "actformer").is_dir()

@@ -212,3 +212,21 @@ def test_actformer_protocol_settings_are_checked():
         ProtocolConfig(accuracy="balanced")
     with pytest.raises(ValueError, match="reference_window must be >= 1"):
         ProtocolConfig(reference_window=0)
+
+
+def test_without_a_recogniser_of_its_own_a_set_is_scored_by_fid_a_alone(data, recognizer):
+    """GTA Combat's case: one class no recogniser knows; the one-person recogniser's pooled features only."""
+    pairs = _pairs(data["train"])
+    config = dataclasses.replace(ACTFORMER, repetitions=1)
+    pair_recognizer = Recognizer(recognizer.config, SMPL24, recognizer.class_names,
+                                 init_recognizer(jax.random.key(5), recognizer.config, SMPL24, 12, frames=30, persons=2))
+    with_own = evaluate(jax.random.key(6), {"fixed": fixed_sampler(pairs)}, pair_recognizer, {"train": pairs}, config,
+                        person_recognizer=recognizer)
+    alone = evaluate(jax.random.key(6), {"fixed": fixed_sampler(pairs)}, None, {"train": pairs}, config,
+                     person_recognizer=recognizer)
+    for row in ("fixed", "Real"):
+        assert set(alone[row]) == {"FIDa_train", "FIDam_train"}
+        for metric in ("FIDa_train", "FIDam_train"):
+            assert alone[row][metric] == pytest.approx(with_own[row][metric], rel=1e-6)
+    with pytest.raises(ValueError, match="expected a recogniser, or a person_recognizer"):
+        evaluate(jax.random.key(6), {"fixed": fixed_sampler(pairs)}, None, {"train": pairs}, config)

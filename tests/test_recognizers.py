@@ -101,18 +101,20 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
         evaluator_spec("synth-uestc/transformer", profile)
     # only the embedded-data ST-GCN is trained with input noise; the paper profile keeps the reference recipe
     noisy = profile != "paper"
-    assert [s.input_noise > 0 for s in specs] == [False, False, False, noisy] + [False] * 7 + [noisy, False, noisy]
+    assert [s.input_noise > 0 for s in specs] == ([False, False, False, noisy] + [False] * 7
+                                                  + [noisy, False, noisy, False])
     if profile == "cpu":  # the 94 and 120 classes of NTU-1P and BABEL-120 get twice the steps
-        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000]
+        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000, 3000]
     # ActFormer's: its representations, trained on the other split; the pair stacked on channels, permuted
     actformer = specs[9:]
     assert [s.recognizer.inputs for s in actformer] == ["limbs", "limbs", "rot6d+translation", "limbs",
-                                                        "rot6d+translation"]
-    assert [s.recognizer.graph_center for s in actformer] == [9, 20, 0, 20, 0]
+                                                        "rot6d+translation", "limbs"]
+    assert [s.recognizer.graph_center for s in actformer] == [9, 20, 0, 20, 0, 0]
+    assert [s.recognizer.topology for s in actformer] == ["own"] * 5 + ["joints15"]  # GTA Combat's FID_a
     assert all(s.trains_on == "held_out" and s.recognizer.dropout == 0.5 and not s.recognizer.canonical
                for s in actformer)
     assert [(s.recognizer.persons, s.permute_persons, s.window) for s in actformer] == (
-        [("average", False, 64)] * 3 + [("channels", True, 60), ("average", False, 64)])
+        [("average", False, 64)] * 3 + [("channels", True, 60)] + [("average", False, 64)] * 2)
     if profile == "paper":
         assert all(s.optimizer == "sgd" and s.learning_rate == 0.1 for s in actformer)
 
@@ -339,3 +341,27 @@ def test_the_fields_added_later_leave_older_cache_keys_alone(tmp_path):
     spec = evaluator_spec("synth-humanact12/gru", "smoke")
     assert "trains_on" not in recognizers._cache_spec(spec) and "persons" not in recognizers._cache_spec(spec)["recognizer"]
     assert cache_folder(dataclasses.replace(spec, trains_on="held_out"), tmp_path) != cache_folder(spec, tmp_path)
+
+
+def test_a_joints15_recogniser_reads_ntu_and_gta_motions_through_their_common_joints(two_person_windows):
+    """The same 15 joints give the same logits whichever skeleton holds them; the other joints are ignored."""
+    from jaxmotion.geometry.skeletons import GTA22, JOINTS15, NTU25, joints15_indices
+
+    config = RecognizerConfig(architecture="stgcn", inputs="limbs", canonical=False, channels=(8, 16),
+                              strides=(1, 2), topology="joints15")
+    variables = init_recognizer(jax.random.key(2), config, NTU25, 26, frames=30)
+    ntu = Recognizer(config, NTU25, tuple(f"class {i}" for i in range(26)), variables)
+    assert variables["params"] is not None and recognizer_inputs(config, NTU25, two_person_windows).shape[-2] == 15
+    ntu_joints = np.asarray(two_person_windows["joints"])[:, 0]  # [B, T, 25, 3]
+    gta_joints = np.random.default_rng(0).normal(size=(*ntu_joints.shape[:2], 22, 3)).astype(np.float32)
+    gta_joints[..., joints15_indices(GTA22), :] = ntu_joints[..., joints15_indices(NTU25), :]
+    gta = ntu.reading(GTA22)
+    np.testing.assert_allclose(np.asarray(gta({"joints": gta_joints})[0]), np.asarray(ntu({"joints": ntu_joints})[0]),
+                               atol=1e-5)
+    assert ntu.reading(NTU25) is ntu and ntu.reading(JOINTS15).skeleton is JOINTS15
+    with pytest.raises(ValueError, match="reads NTU-25 \\(Kinect v2\\) motions only"):
+        _untrained_ntu(dataclasses.replace(config, topology="own"), persons=1).reading(GTA22)
+    with pytest.raises(ValueError, match="no mapping onto the 15-joint topology"):
+        ntu.reading(SMPL24)
+    with pytest.raises(ValueError, match="RecognizerConfig.inputs: the joints15 topology keeps joint positions"):
+        RecognizerConfig(architecture="stgcn", inputs="rot6d", topology="joints15")

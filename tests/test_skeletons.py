@@ -8,12 +8,14 @@ from hypothesis import strategies as st
 from jaxmotion.geometry.skeletons import (
     CMU_MOCAP20,
     GTA22,
+    JOINTS15,
     NTU25,
     SMPL24,
     UESTC18,
     VIBE18,
     Skeleton,
     bones,
+    joints15_indices,
     topological_order,
 )
 
@@ -134,3 +136,21 @@ def test_smpl_template_is_in_the_library_frame():
     assert position["left_foot"][2] > position["left_ankle"][2]
     # Adult proportions: pelvis-to-head plus pelvis-to-ankle is within a plausible standing height.
     assert 1.3 < position["head"][1] - position["left_ankle"][1] < 1.7
+
+
+@pytest.mark.parametrize("skeleton", [NTU25, GTA22])
+def test_joints15_takes_each_common_joint_so_that_every_bone_follows_the_source_tree(skeleton):
+    indices = joints15_indices(skeleton)
+    assert indices[0] == 0 and len(set(indices)) == 15  # root to root: the translation stays the translation
+    for joint, parent in enumerate(JOINTS15.parents[1:], start=1):
+        ancestors, node = set(), indices[joint]
+        while node >= 0:
+            node = skeleton.parents[node]
+            ancestors.add(node)
+        assert indices[parent] in ancestors, (skeleton.name, JOINTS15.joint_names[joint])
+    for joint, name in enumerate(JOINTS15.joint_names):  # sides and limb joints keep their names
+        if name.startswith(("left_", "right_")):
+            assert skeleton.joint_names[indices[joint]] == name
+    assert joints15_indices(JOINTS15) == tuple(range(15))
+    with pytest.raises(ValueError, match="no mapping onto the 15-joint topology"):
+        joints15_indices(SMPL24)

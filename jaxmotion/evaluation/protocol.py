@@ -18,7 +18,9 @@ and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part o
   (``class_fid``: ``FIDm_<name>``); for several persons, FID_a from a one-person recogniser's features
   max-pooled over the persons (``evaluate(..., person_recognizer=...)``: ``FIDa_<name>``, and
   ``FIDam_<name>`` per class). The paper reports one set (``repetitions=1``); repetitions redraw the
-  generated motions and the Real row's windows against the same reference.
+  generated motions and the Real row's windows against the same reference. GTA Combat has one class and no
+  recogniser of its own: there the one-person recogniser alone is given (``recognizer=None``) and the rows
+  hold FID_a only.
 
 The "Real" row is computed the same way as a generator's: a second, independent draw of the reference
 real set (ACTOR's "gt2") plays the generator's part, so its FID measures how far two real samples lie
@@ -142,10 +144,10 @@ def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: in
 
 
 class Reference(NamedTuple):
-    """A real set's recogniser features ``[M, D]``, their ``actions [M]``, and for FID_a the one-person
-    recogniser's features max-pooled over persons ``[M, D']`` (``None`` without one)."""
+    """A real set's recogniser features ``[M, D]`` (``None`` without a recogniser), their ``actions [M]``, and
+    for FID_a the one-person recogniser's features max-pooled over persons ``[M, D']`` (``None`` without one)."""
 
-    features: jax.Array
+    features: jax.Array | None
     actions: jax.Array
     person_features: jax.Array | None = None
 
@@ -166,33 +168,39 @@ def person_features(recognizer: Recognizer, motions: Motions) -> jax.Array:
     return aggregate_persons(jnp.reshape(features, (n, p, -1)))
 
 
-def reference_features(recognizer: Recognizer, motions: Motions, person_recognizer: Recognizer | None = None
+def reference_features(recognizer: Recognizer | None, motions: Motions, person_recognizer: Recognizer | None = None
                        ) -> Reference:
     """A real set's :class:`Reference` (``motions``: a batch dict with ``actions``)."""
     pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
-    return Reference(recognizer(motions)[1], jnp.asarray(motions["actions"]), pooled)
+    features = None if recognizer is None else recognizer(motions)[1]
+    return Reference(features, jnp.asarray(motions["actions"]), pooled)
 
 
-def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.ndarray,
+def score(key: jax.Array, recognizer: Recognizer | None, motions: Motions, actions: np.ndarray,
           references: Mapping[str, Reference], config: ProtocolConfig, real: Motions | None = None,
-          person_recognizer: Recognizer | None = None) -> dict[str, float]:
+          person_recognizer: Recognizer | None = None, num_classes: int | None = None) -> dict[str, float]:
     """The metrics of one set of motions made for ``actions [N]``: accuracy (``config.accuracy``),
     ``FID_<name>`` against each named :class:`Reference`, with ``config.class_fid`` the class-mean
     ``FIDm_<name>``, with a ``person_recognizer`` FID_a (``FIDa_<name>``, ``FIDam_<name>`` per class), then
     diversity, multimodality, and with ``config.n_apd`` the n-APD against the ``real`` motions (a batch dict
-    with ``joints`` and ``actions``)."""
-    logits, features = recognizer(motions)
+    with ``joints`` and ``actions``). ``recognizer=None``: FID_a (and n-APD) only; ``num_classes``, the data's
+    class count, is then required."""
+    if recognizer is None and (person_recognizer is None or num_classes is None):
+        raise ValueError("recognizer: without one, score needs a person_recognizer and num_classes (FID_a only)")
     actions = jnp.asarray(actions)
-    classes = recognizer.num_classes
-    confusion = confusion_matrix(actions, jnp.argmax(logits, -1), classes)
-    k_div, k_mm = jax.random.split(key)
-    out = {"accuracy": float((mean_class_recall if config.accuracy == "class_mean" else accuracy)(confusion))}
+    classes = recognizer.num_classes if recognizer is not None else num_classes
+    out, features = {}, None
+    if recognizer is not None:
+        logits, features = recognizer(motions)
+        confusion = confusion_matrix(actions, jnp.argmax(logits, -1), classes)
+        out["accuracy"] = float((mean_class_recall if config.accuracy == "class_mean" else accuracy)(confusion))
     pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
     for name, reference in references.items():
-        out[f"FID_{name}"] = float(fid(features, reference.features))
-        if config.class_fid:
-            out[f"FIDm_{name}"] = float(fid_class_mean(features, actions, reference.features, reference.actions,
-                                                       classes))
+        if features is not None:
+            out[f"FID_{name}"] = float(fid(features, reference.features))
+            if config.class_fid:
+                out[f"FIDm_{name}"] = float(fid_class_mean(features, actions, reference.features,
+                                                           reference.actions, classes))
         if pooled is not None:
             if reference.person_features is None:
                 raise ValueError(f"references[{name!r}]: FID_a needs the real set's person features")
@@ -200,8 +208,10 @@ def score(key: jax.Array, recognizer: Recognizer, motions: Motions, actions: np.
             if config.class_fid:
                 out[f"FIDam_{name}"] = float(fid_class_mean(pooled, actions, reference.person_features,
                                                             reference.actions, classes))
-    out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
-    out["multimodality"] = float(multimodality(k_mm, features, actions, classes, config.multimodality_pairs))
+    if features is not None:
+        k_div, k_mm = jax.random.split(key)
+        out["diversity"] = float(diversity(k_div, features, config.diversity_pairs))
+        out["multimodality"] = float(multimodality(k_mm, features, actions, classes, config.multimodality_pairs))
     if config.n_apd:
         if real is None:
             raise ValueError("real: n-APD needs the real motions it normalises by")
@@ -228,7 +238,7 @@ def check_evaluator(recognizer: Recognizer, real: Mapping[str, MotionDataset]) -
                              f"its classes")
 
 
-def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer,
+def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recognizer | None,
              real: Mapping[str, MotionDataset], config: ProtocolConfig,
              mesh: Mesh | None = None, person_recognizer: Recognizer | None = None
              ) -> dict[str, dict[str, list[float]]]:
@@ -238,7 +248,8 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
     sampler is scored against the same real draws in a repetition (with ``config.reference="tiles"``, the
     same tiled windows in all: each class present gets ``config.per_class`` generated motions, and the Real
     row is a class-balanced draw of the reference set's windows). Repetition r uses ``fold_in(key, r)``.
-    ``person_recognizer``: a one-person recogniser for FID_a on motions of several persons.
+    ``person_recognizer``: a one-person recogniser for FID_a on motions of several persons; with
+    ``recognizer=None`` the rows hold FID_a alone (a dataset no recogniser knows the classes of).
     ``mesh``: generation and the recogniser's passes split their chunks over a
     data mesh's devices (same numbers up to float32 sums); ``None``: one device.
     """
@@ -247,12 +258,16 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
     if "Real" in samplers:
         raise ValueError("samplers: 'Real' is the name of the real-data row; name the generator otherwise")
     check_real_sets(real, config)
-    check_evaluator(recognizer, real)
+    if recognizer is None and person_recognizer is None:
+        raise ValueError("recognizer: expected a recogniser, or a person_recognizer for FID_a alone")
+    if recognizer is not None:
+        check_evaluator(recognizer, real)
+
     def on_mesh(r: Recognizer | None) -> Recognizer | None:
         return r if mesh is None or r is None or r.mesh is not None else dataclasses.replace(r, mesh=mesh)
 
     recognizer, person_recognizer = on_mesh(recognizer), on_mesh(person_recognizer)
-    canonical = recognizer.config.canonical
+    canonical = (recognizer or person_recognizer).config.canonical
     rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
     reference_name = next(iter(real))
     tiles = config.reference == "tiles"
@@ -276,7 +291,7 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
                                    config.chunk, mesh), actions)
         for i, (name, (motions, labels)) in enumerate(sets.items()):
             metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, references, config,
-                            draws[reference_name], person_recognizer)
+                            draws[reference_name], person_recognizer, real[reference_name].num_classes)
             for metric, value in metrics.items():
                 rows[name].setdefault(metric, []).append(value)
     return rows

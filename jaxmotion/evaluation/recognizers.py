@@ -40,7 +40,7 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import SKELETONS, MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
-from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.geometry.skeletons import JOINTS15, Skeleton
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.models.recognition import (
     Recognizer,
@@ -107,17 +107,20 @@ class RecognizerTraining:
 
     @property
     def name(self) -> str:
-        return f"{self.dataset}/{self.recognizer.architecture}"
+        """The evaluator's name (:data:`EVALUATORS`): ``<dataset>/<architecture>[-joints15]``."""
+        topology = "" if self.recognizer.topology == "own" else f"-{self.recognizer.topology}"
+        return f"{self.dataset}/{self.recognizer.architecture}{topology}"
 
 
 #: The papers' evaluators on the embedded data, by name.
 EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru",
               "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru",
               "synth-ntu13/stgcn", "synth-ntu1p/stgcn", "synth-ntu1p-smpl/stgcn", "synth-ntu2p/stgcn",
-              "synth-babel120/stgcn")
+              "synth-babel120/stgcn", "synth-ntu1p/stgcn-joints15")
 
 #: ActFormer's evaluators (FACTS 5): ST-GCN on its representation (inputs, graph centre), trained on the other
-#: split. NTU-25 limbs centred on the spine shoulder (20); SMPL rotations + the translation node centred on the
+#: split; ``synth-ntu1p/stgcn-joints15`` is NTU-1P's on the 15 joints NTU and GTA share (centred on the pelvis,
+#: as the authors' ``joints15`` layout), GTA Combat's FID_a recogniser. NTU-25 limbs centred on the spine shoulder (20); SMPL rotations + the translation node centred on the
 #: pelvis (the code's ``smpl`` layout); the NTU-13 stand-in (SMPL-24 joints) as limbs, centred on spine3 (9),
 #: the nearest SMPL joint to NTU's spine shoulder; two persons stacked on channels, their order permuted in
 #: training (the paper's augmentation).
@@ -145,8 +148,9 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     if profile not in cfglib.PROFILES:
         raise ValueError(f"profile: expected one of {', '.join(cfglib.PROFILES)}, got {profile!r}")
     dataset, architecture = name.split("/")
+    architecture, _, topology = architecture.partition("-")
     if architecture == "stgcn" and dataset in ACTFORMER_EVALUATORS:
-        return _actformer_spec(dataset, profile)
+        return _actformer_spec(dataset, profile, topology or "own")
     odmo = dataset == "synth-uestc" and architecture == "gru"
     window = 100 if dataset == "synth-cmu" else 60
     if profile == "smoke":
@@ -172,7 +176,7 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     return RecognizerTraining(dataset, net, _loop(16_700), learning_rate=1e-4, window=window)
 
 
-def _actformer_spec(dataset: str, profile: str) -> RecognizerTraining:
+def _actformer_spec(dataset: str, profile: str, topology: str = "own") -> RecognizerTraining:
     """ActFormer's evaluator for ``dataset``: windows of 64 frames (two persons: 60), as the code's feeders;
     paper, its recipe (the full ST-GCN, SGD Nesterov 0.1, x0.1 after epochs 10 and 50, weight decay 1e-4,
     batch 64, 80 epochs of the embedded split: set ``loop`` to 80 epochs of a real one); cpu, 3 blocks of
@@ -180,6 +184,8 @@ def _actformer_spec(dataset: str, profile: str) -> RecognizerTraining:
     inputs, center, persons = ACTFORMER_EVALUATORS[dataset]
     two = persons == "channels"
     full = RecognizerConfig.actformer_stgcn(inputs, center, persons)
+    if topology == "joints15":
+        full = dataclasses.replace(full, topology=topology, graph_center=JOINTS15.index("pelvis"))
     # the SMPL stand-ins' hinge joints (see RecognizerTraining.input_noise); the paper recipe has none
     noise = _STGCN_NOISE if inputs.startswith("rot6d") and profile != "paper" else 0.0
     common = dict(window=60 if two else 64, trains_on="held_out", permute_persons=two, input_noise=noise)
@@ -343,7 +349,7 @@ def cache_folder(spec: RecognizerTraining, cache_dir: str | Path | None = None, 
 # Fields added after evaluators were first cached, with their defaults: at those values they stay out of the
 # cache key, so the evaluators trained before they existed are found again.
 _LATER_FIELDS = {("trains_on",): "train", ("permute_persons",): False, ("optimizer",): "adam", ("decay_steps",): [],
-                 ("recognizer", "persons"): "average"}
+                 ("recognizer", "persons"): "average", ("recognizer", "topology"): "own"}
 
 
 def _cache_spec(spec: RecognizerTraining) -> dict[str, Any]:

@@ -59,18 +59,21 @@ ODMO_COLUMNS = {"accuracy": "Acc", "FID_train": "FID_tr", "FID_test": "FID_test"
 #: split's tiles, FID_a from the one-person recogniser max-pooled over persons).
 ACTFORMER_COLUMNS = {"accuracy": "Acc", "FIDm_train": "FID_m", "FID_train": "FID_w", "FIDam_train": "FIDa_m",
                      "FIDa_train": "FIDa_w"}
+#: ... and to its GTA Combat columns (one class: FID_a alone, the one-person recogniser on the 15 common joints).
+COMBAT_COLUMNS = {"FIDa_train": "FIDa"}
 PERCENT = frozenset({"accuracy"})
 
 
 @dataclasses.dataclass(frozen=True)
 class StandIn:
     """The embedded dataset standing in for a paper dataset (``label``, the paper's name), the evaluator the
-    papers score it with (a :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name) and whether its
-    tables score against a test split too (``FID_test``)."""
+    papers score it with (a :func:`~jaxmotion.evaluation.recognizers.evaluator_spec` name; None: no recogniser
+    knows its classes, GTA Combat's one) and whether its tables score against a test split too
+    (``FID_test``)."""
 
     label: str
     dataset: str
-    evaluator: str
+    evaluator: str | None
     test_split: bool
 
     @property
@@ -90,6 +93,7 @@ STAND_INS = {s.label: s for s in (
     StandIn("NTU-1P", "synth-ntu1p", "synth-ntu1p/stgcn", False),
     StandIn("BABEL", "synth-babel120", "synth-babel120/stgcn", False),
     StandIn("NTU-2P", "synth-ntu2p", "synth-ntu2p/stgcn", False),
+    *(StandIn(f"Combat {p}P", f"synth-combat-{p}p", None, False) for p in range(2, 6)),
 )}
 
 
@@ -147,18 +151,22 @@ def fit_rows(rows: Mapping[str, Recipe], data: MotionDataset, key: jax.Array, wo
     return samplers
 
 
-def table_evaluator(table: TableDataset, real: Mapping[str, MotionDataset], data_root: str | None = None) -> Recognizer:
+def table_evaluator(table: TableDataset, real: Mapping[str, MotionDataset], data_root: str | None = None
+                    ) -> Recognizer | None:
     """The table's evaluator, trained or read from its cache, after checking what would make the table
     meaningless: the protocol's duration against the real sets (before the evaluator trains) and the
-    evaluator's classes against theirs. Call it before training the rows, so a bad table fails first."""
+    evaluator's classes against theirs. Call it before training the rows, so a bad table fails first. None for
+    a table without one (FID_a alone)."""
     check_real_sets(real, table.protocol)
+    if table.evaluator is None:
+        return None
     recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)
     check_evaluator(recognizer, real)
     return recognizer
 
 
 def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[str, MotionDataset],
-               recognizer: Recognizer, protocol: ProtocolConfig, *, mesh: Mesh | None = None,
+               recognizer: Recognizer | None, protocol: ProtocolConfig, *, mesh: Mesh | None = None,
                person_recognizer: Recognizer | None = None) -> dict[str, dict[str, list[float]]]:
     """Score ``samplers`` with ``recognizer`` (:func:`table_evaluator`) under ``protocol`` (generation and
     recogniser passes sharded on ``mesh`` when given; FID_a with a ``person_recognizer``); rows in the
@@ -219,11 +227,13 @@ def interleave_reported(rows: Mapping[str, Mapping[str, Any]], reported: Mapping
 class TableDataset:
     """One dataset of a table: its column prefix (the paper's name, ``"NTU-13"``), the data, the evaluator
     and the protocol it is scored with; for motions of several persons, optionally the one-person recogniser
-    of FID_a (``person_evaluator``, :func:`~jaxmotion.evaluation.protocol.evaluate`'s ``person_recognizer``)."""
+    of FID_a (``person_evaluator``, :func:`~jaxmotion.evaluation.protocol.evaluate`'s ``person_recognizer``,
+    reading the data's skeleton: :meth:`~jaxmotion.models.recognition.Recognizer.reading`). ``evaluator=None``:
+    FID_a alone."""
 
     label: str
     data: TableData
-    evaluator: RecognizerTraining
+    evaluator: RecognizerTraining | None
     protocol: ProtocolConfig
     person_evaluator: RecognizerTraining | None = None
 
@@ -239,7 +249,8 @@ def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CP
                   smoke_protocol: ProtocolConfig = SMOKE_PROTOCOL) -> TableDataset:
     """The embedded stand-in of the paper dataset ``label`` (a key of :data:`STAND_INS`) in ``profile``:
     its standard evaluator (or ``evaluator``, an evaluator name: ODMO scores UESTC with its own GRU) in that
-    profile; smoke: 80 clips and ``smoke_protocol``; cpu: ``cpu_protocol``; paper: ``paper_protocol``."""
+    profile (none if the stand-in has none); smoke: 80 clips and ``smoke_protocol``; cpu: ``cpu_protocol``;
+    paper: ``paper_protocol``."""
     if label not in STAND_INS:
         raise ValueError(f"label: expected one of {sorted(STAND_INS)}, got {label!r}")
     stand_in = STAND_INS[label]
@@ -247,7 +258,8 @@ def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CP
     protocol = {"smoke": smoke_protocol, "cpu": cpu_protocol, "paper": paper_protocol}.get(profile)
     if protocol is None:
         raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-    return TableDataset(label, data, evaluator_spec(evaluator or stand_in.evaluator, profile), protocol)
+    name = evaluator or stand_in.evaluator
+    return TableDataset(label, data, None if name is None else evaluator_spec(name, profile), protocol)
 
 
 def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
@@ -259,7 +271,7 @@ def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str |
     real = real_sets(table.data, data_root)
     recognizer = table_evaluator(table, real, data_root)  # before any row trains
     person = (None if table.person_evaluator is None
-              else trained_recognizer(table.person_evaluator, data_root=data_root)[0])
+              else trained_recognizer(table.person_evaluator, data_root=data_root)[0].reading(real["train"].skeleton))
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
     return paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
                                     person_recognizer=person), columns)
@@ -287,10 +299,14 @@ ACTFORMER_SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, sampling="per_class", p
 
 def actformer_table(label: str, profile: str) -> TableDataset:
     """The stand-in of ``label`` under ActFormer's protocol (:meth:`ProtocolConfig.actformer`; cpu: 5
-    repetitions) with its ST-GCN evaluator; several persons add FID_a's one-person recogniser, NTU-1P's."""
-    table = table_dataset(label, profile, evaluator=STAND_INS[label].dataset + "/stgcn",
+    repetitions) with its ST-GCN evaluator; several persons add FID_a's one-person recogniser, NTU-1P's. GTA
+    Combat (one class) has FID_a alone, from NTU-1P's recogniser on the 15 joints NTU and GTA share."""
+    stand_in = STAND_INS[label]
+    combat = stand_in.evaluator is None
+    table = table_dataset(label, profile, evaluator=None if combat else stand_in.dataset + "/stgcn",
                           paper_protocol=ProtocolConfig.actformer(), cpu_protocol=ProtocolConfig.actformer(5),
                           smoke_protocol=ACTFORMER_SMOKE_PROTOCOL)
     if synthetic.VARIANTS[table.data.name].persons == 1:
         return table
-    return dataclasses.replace(table, person_evaluator=evaluator_spec("synth-ntu1p/stgcn", profile))
+    person = "synth-ntu1p/stgcn-joints15" if combat else "synth-ntu1p/stgcn"
+    return dataclasses.replace(table, person_evaluator=evaluator_spec(person, profile))

@@ -218,3 +218,40 @@ GTA22 = Skeleton(
     ),
     parents=(-1, 2, 11, 2, 3, 4, 5, 2, 7, 8, 9, 12, 13, 14, 0, 1, 0, 16, 17, 0, 19, 20),
 )
+
+# The 15 joints NTU-25 and GTA-22 share, in the order of the authors' ST-GCN ``joints15`` layout (pelvis; neck;
+# head; one arm's shoulder-elbow-wrist, the other's; one leg's hip-knee-ankle, the other's). ActFormer measures
+# GTA Combat's FID_a with an NTU-1P recogniser on this topology; its conversion is unpublished (FACTS 1.3), so
+# which joint of each skeleton stands for each of the 15 is this project's reading of the names: NTU's spine
+# base and GTA's pelvis are the root, NTU's spine shoulder and GTA's neck the neck, NTU's head and GTA's head
+# centre the head, the shoulders are the upper-arm joints (not GTA's clavicles); the layout's sides are
+# unnamed, the left limbs are put first.
+JOINTS15 = Skeleton(
+    name="joints15 (NTU / GTA common)",
+    joint_names=(
+        "pelvis", "neck", "head", "left_shoulder", "left_elbow", "left_wrist", "right_shoulder", "right_elbow",
+        "right_wrist", "left_hip", "left_knee", "left_ankle", "right_hip", "right_knee", "right_ankle",
+    ),
+    parents=(-1, 0, 1, 1, 3, 4, 1, 6, 7, 0, 9, 10, 0, 12, 13),
+)
+
+#: Each skeleton that maps onto :data:`JOINTS15`: its joint standing for each of the 15, by name.
+JOINTS15_SOURCES = {
+    NTU25.name: ("spine_base", "spine_shoulder", "head", "left_shoulder", "left_elbow", "left_wrist",
+                 "right_shoulder", "right_elbow", "right_wrist", "left_hip", "left_knee", "left_ankle", "right_hip",
+                 "right_knee", "right_ankle"),
+    GTA22.name: ("pelvis", "neck", "head_center", "left_shoulder", "left_elbow", "left_wrist", "right_shoulder",
+                 "right_elbow", "right_wrist", "left_hip", "left_knee", "left_ankle", "right_hip", "right_knee",
+                 "right_ankle"),
+}
+
+
+def joints15_indices(skeleton: Skeleton) -> tuple[int, ...]:
+    """``skeleton``'s joint for each of :data:`JOINTS15`'s (gather ``joints[..., indices, :]``); the root maps
+    to the root, so a motion's translation stays its translation."""
+    if skeleton.name == JOINTS15.name:
+        return tuple(range(JOINTS15.num_joints))
+    if skeleton.name not in JOINTS15_SOURCES:
+        raise ValueError(f"skeleton: {skeleton.name} has no mapping onto the 15-joint topology; known: "
+                         f"{sorted(JOINTS15_SOURCES)}")
+    return tuple(skeleton.index(name) for name in JOINTS15_SOURCES[skeleton.name])

@@ -33,7 +33,7 @@ import numpy as np
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.representations import actformer_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
-from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.geometry.skeletons import JOINTS15, Skeleton, joints15_indices
 from jaxmotion.nn.core import LinearParams, init_linear, linear
 from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
 from jaxmotion.nn.stgcn import init_stgcn, spatial_partition, stgcn
@@ -128,7 +128,10 @@ class RecognizerConfig:
     ActFormer's ``ntu-rgb+d`` layout: 20, the spine shoulder). ``persons``: how the ST-GCN reads motions of
     several persons: ``average`` (ST-GCN's own rule: shared weights, features averaged over persons) or
     ``channels`` (ActFormer's two-person evaluator: the persons' channels stacked per joint, ``P·C`` in,
-    so the order of persons matters and training permutes them).
+    so the order of persons matters and training permutes them). ``topology``: ``own`` (the motions'
+    skeleton) or ``joints15`` (:data:`~jaxmotion.geometry.skeletons.JOINTS15`, the 15 joints NTU-25 and GTA-22
+    share: motions of either are reduced to them first, so one recogniser reads both; ActFormer's FID_a on
+    GTA Combat). The graph and the representation are then the 15 joints'; joint positions only.
     """
 
     architecture: Literal["gru", "stgcn"] = "gru"
@@ -143,8 +146,14 @@ class RecognizerConfig:
     temporal_kernel: int = 9
     dropout: float = 0.0
     persons: Literal["average", "channels"] = "average"
+    topology: Literal["own", "joints15"] = "own"
 
     def __post_init__(self):
+        if self.topology not in ("own", "joints15"):
+            raise ValueError(f"RecognizerConfig.topology: expected 'own' or 'joints15', got {self.topology!r}")
+        if self.topology == "joints15" and self.inputs not in ("joints", "limbs"):
+            raise ValueError(f"RecognizerConfig.inputs: the joints15 topology keeps joint positions only; "
+                             f"{self.inputs!r} reads rotations")
         if self.persons not in ("average", "channels"):
             raise ValueError(f"RecognizerConfig.persons: expected 'average' or 'channels', got {self.persons!r}")
         if len(self.channels) != len(self.strides) or not self.channels:
@@ -209,6 +218,9 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
             raise ValueError(f"motions['rotations']: expected {tuple(joints.shape)} like the joints, "
                              f"got {tuple(rotations.shape)}")
     translation = jnp.asarray(motions.get("translation", joints[..., 0, :]), jnp.float32)
+    if config.topology == "joints15":  # the root maps to the root: the translation stays
+        joints = joints[..., joints15_indices(skeleton), :]
+    skeleton = network_skeleton(config, skeleton)
     if config.canonical:
         hips = skeleton.index("left_hip"), skeleton.index("right_hip")
         joints, translation, rotations = canonicalize_motion(joints, translation, rotations if reads_rotations
@@ -220,9 +232,15 @@ def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Map
     return from_matrix(axis_angle_to_matrix(rotations), "rot6d")
 
 
+def network_skeleton(config: RecognizerConfig, skeleton: Skeleton) -> Skeleton:
+    """The skeleton the network reads for motions of ``skeleton``: its own, or :data:`JOINTS15`."""
+    return JOINTS15 if config.topology == "joints15" else skeleton
+
+
 def recognizer_parents(config: RecognizerConfig, skeleton: Skeleton) -> tuple[int, ...]:
-    """The tree the network's graph is built on: the skeleton's, plus the translation node (parent 0)."""
-    return skeleton.parents + ((0,) if config.inputs == "rot6d+translation" else ())
+    """The tree the network's graph is built on: the skeleton's (or :data:`JOINTS15`'s), plus the translation
+    node (parent 0)."""
+    return network_skeleton(config, skeleton).parents + ((0,) if config.inputs == "rot6d+translation" else ())
 
 
 def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden: int = 128, layers: int = 2,
@@ -315,6 +333,17 @@ class Recognizer:
             from jaxmotion.train.mesh import replicate  # the loop's module; imported lazily
 
             object.__setattr__(self, "_variables", replicate(self.variables, self.mesh))
+
+    def reading(self, skeleton: Skeleton) -> Recognizer:
+        """This recogniser for motions of ``skeleton``: the same network and weights, which a ``joints15``
+        recogniser allows for any skeleton that maps onto the 15 joints (an NTU-25 one reading GTA-22)."""
+        if skeleton.name == self.skeleton.name:
+            return self
+        if self.config.topology != "joints15":
+            raise ValueError(f"skeleton: this recogniser reads {self.skeleton.name} motions only; one with "
+                             f"topology='joints15' reads any skeleton that maps onto the 15 joints")
+        joints15_indices(skeleton)  # refuses a skeleton without a mapping
+        return dataclasses.replace(self, skeleton=skeleton)
 
     def __call__(self, motions: Mapping[str, Any]) -> tuple[jax.Array, jax.Array]:
         rows = {k: motions[k] for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None}

@@ -221,10 +221,12 @@ def train_actformer(data: MotionDataset, training: ActFormerTraining, key: jax.A
 
 #: ActFormer's data per embedded stand-in: (generator joints, output, class sampling); persons and classes
 #: come from the data. NTU-13's stand-in holds SMPL-24 joints, trained as limbs like NTU's skeletons; the SMPL
-#: sets add the translation as a 25th node; BABEL resamples classes by the square root of their counts.
+#: sets add the translation as a 25th node; BABEL resamples classes by the square root of their counts; GTA
+#: Combat's 22 joints are limbs too (width 8 · 22 = 176, as the authors' GTA configs).
 ACTFORMER_DATA = {"synth-ntu13": (24, "skeleton", "epoch"), "synth-ntu1p": (25, "skeleton", "epoch"),
                   "synth-ntu1p-smpl": (25, "smpl", "epoch"), "synth-babel120": (25, "smpl", "sqrt"),
-                  "synth-ntu2p": (25, "skeleton", "epoch")}
+                  "synth-ntu2p": (25, "skeleton", "epoch"),
+                  **{f"synth-combat-{p}p": (22, "skeleton", "epoch") for p in range(2, 6)}}
 #: The code's length: 500 epochs of the train split, an epoch being one pass of 64-clip batches through the
 #: critic (4 per generator step).
 PAPER_EPOCHS = 500
