@@ -7,8 +7,10 @@ to turn such a config into JSON, back, and how to edit it from the command line:
     cfg = apply_overrides(Config.cpu(), ["train.steps=500", "model.layers=4"])
 
 Supported field types: ``bool``, ``int``, ``float``, ``str``, ``Literal[...]``, ``X | None``,
-``tuple[X, ...]`` / ``tuple[X, Y]`` and nested dataclasses. Anything else is rejected when the config is
-first converted, so a config that cannot be written to ``config.json`` never trains.
+``tuple[X, ...]`` / ``tuple[X, Y]``, nested dataclasses, and unions of dataclasses (``A | B``: a generator
+that is one architecture or another), written as the chosen member's fields and read back as the one member
+whose fields the mapping fits. Anything else is rejected when the config is first converted, so a config that
+cannot be written to ``config.json`` never trains.
 """
 
 from __future__ import annotations
@@ -41,8 +43,9 @@ def field_paths(cls: type, prefix: str = "") -> list[str]:
     """Every overridable leaf field of a config class, as dotted paths (``train.steps``)."""
     paths = []
     for name, tp in _field_types(cls).items():
-        if _is_dataclass_type(tp):
-            paths.extend(field_paths(tp, f"{prefix}{name}."))
+        members = (tp,) if _is_dataclass_type(tp) else _dataclass_union(tp)
+        if members:
+            paths.extend(dict.fromkeys(p for m in members for p in field_paths(m, f"{prefix}{name}.")))
         else:
             paths.append(f"{prefix}{name}")
     return paths
@@ -119,22 +122,58 @@ def _is_dataclass_type(tp: Any) -> bool:
     return isinstance(tp, type) and dataclasses.is_dataclass(tp)
 
 
+def _dataclass_union(tp: Any) -> tuple[type, ...]:
+    """The members of a union of two or more dataclasses (``A | B``), else ``()``."""
+    if typing.get_origin(tp) not in (Union, types.UnionType):
+        return ()
+    args = typing.get_args(tp)
+    if len(args) > 1 and type(None) not in args and all(_is_dataclass_type(a) for a in args):
+        return args
+    return ()
+
+
 def _optional_inner(tp: Any) -> Any | None:
     """``X`` for ``X | None`` / ``Optional[X]``, else None."""
-    if typing.get_origin(tp) in (Union, types.UnionType):
+    if typing.get_origin(tp) in (Union, types.UnionType) and not _dataclass_union(tp):
         args = [a for a in typing.get_args(tp) if a is not type(None)]
         if len(args) == 1 and len(typing.get_args(tp)) == 2:
             return args[0]
-        raise ConfigError(f"unsupported union type {tp!r}: only `X | None` is allowed")
+        raise ConfigError(f"unsupported union type {tp!r}: only `X | None` and unions of dataclasses are allowed")
     return None
+
+
+def _union_member(value: Any, members: tuple[type, ...], where: str, *, encode: bool) -> type:
+    """The member of a dataclass union that ``value`` is (encode) or whose fields its mapping fits (decode)."""
+    names = " | ".join(m.__name__ for m in members)
+    if encode:
+        member = next((m for m in members if isinstance(value, m)), None)
+        if member is None:
+            raise ConfigError(f"{where}: expected one of {names}, got {type(value).__name__}")
+        return member
+    if not isinstance(value, dict):
+        raise ConfigError(f"{where}: expected a mapping for {names}, got {value!r}")
+    fits = [m for m in members if set(value) <= set(_field_types(m))
+            and {f.name for f in dataclasses.fields(m) if f.default is dataclasses.MISSING
+                 and f.default_factory is dataclasses.MISSING} <= set(value)]
+    if len(fits) != 1:
+        raise ConfigError(f"{where}: the fields {sorted(value)} fit {len(fits)} of {names}; name the fields of "
+                          f"exactly one")
+    return fits[0]
 
 
 def _replace_path(config: Any, parts: list[str], raw: str, full: str) -> Any:
     name = parts[0]
-    tp = _field_types(type(config))[name]
+    fields = _field_types(type(config))
+    if name not in fields:  # a path of another member of a dataclass union
+        raise ConfigError(f"{full!r}: this config's {type(config).__name__} has no field {name!r}; its fields: "
+                          f"{', '.join(fields)}")
+    tp = fields[name]
     if len(parts) > 1:
         return dataclasses.replace(config, **{name: _replace_path(getattr(config, name), parts[1:], raw, full)})
     if _is_dataclass_type(tp):
+        raise ConfigError(f"{full!r} is a group of fields; set one of: {', '.join(field_paths(tp, full + '.'))}")
+    if _dataclass_union(tp):
+        tp = type(getattr(config, name))
         raise ConfigError(f"{full!r} is a group of fields; set one of: {', '.join(field_paths(tp, full + '.'))}")
     return dataclasses.replace(config, **{name: _decode(_parse_raw(raw, tp), tp, full)})
 
@@ -163,6 +202,9 @@ def _decode(value: Any, tp: Any, where: str) -> Any:
 
 def _check(value: Any, tp: Any, where: str, *, encode: bool) -> Any:
     """Validate ``value`` against ``tp``; return its JSON form (encode) or its Python form (decode)."""
+    members = _dataclass_union(tp)
+    if members:
+        return _check(value, _union_member(value, members, where, encode=encode), where, encode=encode)
     inner = _optional_inner(tp)
     if inner is not None:
         return None if value is None else _check(value, inner, where, encode=encode)

@@ -85,3 +85,34 @@ def test_unsupported_field_type_is_rejected():
 def test_python_style_booleans_are_accepted():
     assert cfglib.apply_overrides(Outer(), ["flag=True"]).flag is True
     assert cfglib.apply_overrides(Outer(flag=True), ["flag=False"]).flag is False
+
+
+@dataclasses.dataclass(frozen=True)
+class Other:
+    depth: int = 2
+    steps: int = 1
+
+
+@dataclasses.dataclass(frozen=True)
+class Choice:
+    part: Inner | Other = Inner()
+
+
+def test_a_union_of_dataclasses_round_trips_as_the_member_its_fields_fit():
+    for cfg in (Choice(), Choice(Other(depth=3, steps=2))):
+        assert cfglib.from_dict(Choice, cfglib.to_dict(cfg)) == cfg
+    assert cfglib.from_dict(Choice, {"part": {"depth": 4}}) == Choice(Other(4))  # defaults fill the rest
+    with pytest.raises(cfglib.ConfigError, match=r"part: the fields \['steps'\] fit 2 of Inner \| Other"):
+        cfglib.from_dict(Choice, {"part": {"steps": 4}})
+    with pytest.raises(cfglib.ConfigError, match=r"fit 0 of Inner \| Other"):
+        cfglib.from_dict(Choice, {"part": {"depth": 4, "lr": 1.0}})
+    with pytest.raises(cfglib.ConfigError, match=r"part: expected one of Inner \| Other, got Outer"):
+        cfglib.to_dict(Choice(Outer()))
+    # overrides edit the member the config holds; another member's field is refused by name
+    assert cfglib.apply_overrides(Choice(Other(1)), ["part.depth=5"]).part == Other(5)
+    assert cfglib.apply_overrides(Choice(), ["part.lr=0.5"]).part.lr == 0.5
+    with pytest.raises(cfglib.ConfigError, match="'part.depth': this config's Inner has no field 'depth'"):
+        cfglib.apply_overrides(Choice(), ["part.depth=5"])
+    with pytest.raises(cfglib.ConfigError, match="'part' is a group of fields"):
+        cfglib.apply_overrides(Choice(), ["part=3"])
+    assert cfglib.field_paths(Choice) == ["part.steps", "part.lr", "part.dims", "part.depth"]
