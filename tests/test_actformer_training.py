@@ -71,3 +71,27 @@ def test_mismatched_data_is_refused(pairs):
     training = dataclasses.replace(_training(), generator=GeneratorConfig(num_classes=26, frames=16, depth=1))
     with pytest.raises(ValueError, match="the generator expects 25, 1 and 26"):
         train_actformer(pairs, training, jax.random.key(0), None, progress=False)
+
+
+def test_the_recipe_trains_the_graph_convolution_generator_with_its_batch_statistics(pairs):
+    """CSGN in ActFormer's recipe: the same step, the generator's buffers its BatchNorm statistics (moved by
+    every training-mode pass), the critic still spectrally normalised; generation reads the running statistics,
+    so a motion does not depend on the others drawn with it."""
+    from jaxmotion.models.csgn import CSGNConfig
+    from jaxmotion.train.actformer import csgn_table_training
+
+    generator = CSGNConfig(num_classes=26, persons=2, frames=16, widths=(8, 8, 8, 8))
+    training = dataclasses.replace(_training(), generator=generator)
+    assert training.critic.spectral_norm and not generator.spectral_norm
+    state = train_actformer(pairs, training, jax.random.key(1), None, progress=False)
+    stats = state.buffers["generator"].input_norm
+    assert not np.allclose(np.asarray(stats.running_mean), 0.0) and not np.allclose(np.asarray(stats.running_var), 1.0)
+    fitted = fit_of(state, pairs)
+    three = generate_motions(fitted, training, jax.random.key(2), np.arange(3), pairs.skeleton)
+    one = generate_motions(fitted, training, jax.random.key(2), np.arange(1), pairs.skeleton)
+    assert three["joints"].shape == (3, 2, 16, 25, 3)
+    np.testing.assert_allclose(one["joints"][0], three["joints"][0], atol=1e-5)
+    # the table recipe: the dataset's tree (SMPL-25 adds the translation node), everything else ActFormer's
+    smpl = csgn_table_training("synth-ntu1p-smpl", "cpu", temporal="transformer")
+    assert smpl.generator.parents[-1] == 0 and len(smpl.generator.parents) == 25 and smpl.generator.channels == 6
+    assert smpl.loop == csgn_table_training("synth-ntu1p", "cpu").loop and smpl.critic_base_channels == 8

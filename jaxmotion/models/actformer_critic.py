@@ -124,7 +124,7 @@ def _check_graphs(graphs: CriticGraphs, joints: int) -> None:
         inputs = a.shape[1]
 
 
-def _init_graph_conv(key: jax.Array, adjacency: np.ndarray, c_in: int, c_out: int, kernel: int,
+def init_graph_conv(key: jax.Array, adjacency: np.ndarray, c_in: int, c_out: int, kernel: int,
                      bias: bool) -> GraphConvParams:
     hops, _, nodes = adjacency.shape
     fan_in = c_in * kernel
@@ -142,10 +142,10 @@ def init_critic(key: jax.Array, config: CriticConfig, graphs: CriticGraphs) -> t
     attention = (tuple(init_linear(k, c5, c5)._replace(bias=jnp.zeros((c5,))) for k in jax.random.split(keys[8], 4))
                  if config.pooling == "attention" else None)
     params = CriticParams(
-        conv0=_init_graph_conv(keys[0], graphs.conv0, config.in_channels, c1, 5, True),
-        down1=_init_graph_conv(keys[1], graphs.down1, c1, c2, kt, False),
-        down2=_init_graph_conv(keys[2], graphs.down2, c2, c3, kt, False),
-        down3=_init_graph_conv(keys[3], graphs.down3, c3, c4, kt, False),
+        conv0=init_graph_conv(keys[0], graphs.conv0, config.in_channels, c1, 5, True),
+        down1=init_graph_conv(keys[1], graphs.down1, c1, c2, kt, False),
+        down2=init_graph_conv(keys[2], graphs.down2, c2, c3, kt, False),
+        down3=init_graph_conv(keys[3], graphs.down3, c3, c4, kt, False),
         conv4_weight=torch_uniform(keys[4], (c5, c4, coarse, kt), c4 * coarse * kt),
         conv4_bias=jnp.zeros((c5,)),
         conv5=init_linear(keys[5], c5, 1)._replace(bias=jnp.zeros((1,))),

@@ -35,7 +35,6 @@ from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.representations import joints_from_limb_vectors, mean_bone_lengths, split_rotation_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
-from jaxmotion.models.actformer import generate
 from jaxmotion.train.state import MultiState
 
 
@@ -88,10 +87,11 @@ def to_motions(motion: jax.Array, output: str, skeleton: Skeleton, bone_lengths:
 @functools.partial(jax.jit, static_argnames=("training", "skeleton"))
 def _generate(training, state: MultiState, bone_lengths: jax.Array, root_height: jax.Array, keys: jax.Array,
               actions: jax.Array, skeleton: Skeleton) -> dict[str, jax.Array]:
-    from jaxmotion.train.actformer import latent_factors, sample_latents  # the trainer imports this module
+    from jaxmotion.train.actformer import generator_network, latent_factors, sample_latents  # it imports this module
 
     factors = latent_factors(training)
     z = jax.vmap(lambda k: sample_latents(training, factors, jax.random.wrap_key_data(k), 1)[0])(keys)
+    generate = generator_network(training.generator).generate
     motion, _ = generate(training.generator, state.params["generator"], state.buffers["generator"], z, actions)
     return to_motions(motion, training.generator.output, skeleton, bone_lengths, root_height)
 

@@ -11,6 +11,12 @@ and once in the generator update, the generator's once per fake batch; the vecto
 shared by its persons (``shared_z=False``: one per person). ``critic_pooling``: the critic on the stacked
 persons (``"concat"``, the code) or on each person with its features pooled (Table 4's avg / max / attention).
 
+The generator is ActFormer's Transformer (:class:`~jaxmotion.models.actformer.GeneratorConfig`) or the
+graph-convolution one of CSGN and of Table 3's row (2) (:class:`~jaxmotion.models.csgn.CSGNConfig`,
+:func:`csgn_table_training`): one recipe trains either, against the same critic (:func:`generator_network`
+picks the functions; the generator's ``buffers`` are its spectral-norm vectors or its BatchNorm statistics).
+The critic is spectrally normalised on every layer, as the authors' always is.
+
 Data: windows of ``frames`` frames with ActFormer's snake padding, in the dataset's own frame (no canonical
 turn: ActFormer's data stay in the camera's), turned into the generator's representation: ``skeleton``
 (:func:`~jaxmotion.geometry.representations.skeleton_features`: root minus the clip's mean root, unit limb
@@ -39,9 +45,12 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, Sampling
 from jaxmotion.geometry.representations import actformer_features
-from jaxmotion.geometry.skeletons import Skeleton
-from jaxmotion.models.actformer import GeneratorConfig, generate, init_generator
+from jaxmotion.geometry.skeletons import SMPL24, Skeleton
+from jaxmotion.models import actformer as actformer_generator
+from jaxmotion.models import csgn
+from jaxmotion.models.actformer import GeneratorConfig
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
+from jaxmotion.models.csgn import CSGNConfig
 from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
 from jaxmotion.nn.graph_coarsening import critic_adjacency
 from jaxmotion.pipelines.actformer import ActFormerFit, actformer_sampler, fit_of
@@ -54,7 +63,7 @@ from jaxmotion.train.state import MultiState
 class ActFormerTraining:
     """Everything that determines an ActFormer training run (defaults: the authors' configs)."""
 
-    generator: GeneratorConfig
+    generator: GeneratorConfig | CSGNConfig
     loop: LoopConfig
     critic_base_channels: int = 32
     loss: Literal["hinge", "wgan"] = "hinge"
@@ -87,8 +96,7 @@ class ActFormerTraining:
         stacked = self.critic_pooling == "concat"
         return CriticConfig(num_classes=g.num_classes, joints=g.joints,
                             channels=g.persons * g.channels if stacked else g.channels,
-                            base_channels=self.critic_base_channels, spectral_norm=g.spectral_norm,
-                            pooling=self.critic_pooling)
+                            base_channels=self.critic_base_channels, pooling=self.critic_pooling)
 
     @property
     def batch(self) -> BatchSpec:
@@ -102,6 +110,16 @@ class ActFormerTraining:
 
     def sampler(self, trained: ActFormerFit, skeleton: Skeleton):
         return actformer_sampler(trained, self, skeleton)
+
+
+def generator_network(config: GeneratorConfig | CSGNConfig):
+    """The module holding ``config``'s generator: ``init_generator(key, config) -> (params, buffers)`` and
+    ``generate(config, params, buffers, z, labels, *, train) -> (motion, buffers)``."""
+    if isinstance(config, CSGNConfig):
+        return csgn
+    if isinstance(config, GeneratorConfig):
+        return actformer_generator
+    raise ValueError(f"generator: expected a GeneratorConfig or a CSGNConfig, got {type(config).__name__}")
 
 
 def latent_factors(training: ActFormerTraining) -> jax.Array:
@@ -135,7 +153,7 @@ def real_batches(training: ActFormerTraining, batch: dict[str, jax.Array], paren
 
 def actformer_state(training: ActFormerTraining, graphs: CriticGraphs, key: jax.Array) -> MultiState:
     k_g, k_c = jax.random.split(key)
-    g_params, g_sn = init_generator(k_g, training.generator)
+    g_params, g_sn = generator_network(training.generator).init_generator(k_g, training.generator)
     c_params, c_sn = init_critic(k_c, training.critic, graphs)
     adam = optax.adam(training.learning_rate, b1=training.betas[0], b2=training.betas[1])
     return MultiState.create({"generator": g_params, "critic": c_params}, {"generator": adam, "critic": adam},
@@ -151,6 +169,7 @@ def _critic_loss(loss: str, real: jax.Array, fake: jax.Array) -> jax.Array:
 def actformer_step(training: ActFormerTraining, graphs: CriticGraphs, parents: tuple[int, ...]):
     """The loop's step function ``(state, batch, key) -> (state, metrics)``."""
     g_cfg, c_cfg = training.generator, training.critic
+    generate = generator_network(g_cfg).generate
     factors = latent_factors(training)
     b = training.batch_size
 
@@ -259,3 +278,20 @@ def actformer_table_training(dataset: str, profile: str) -> ActFormerTraining:
         return ActFormerTraining(**common, loop=LoopConfig(steps, log_every=100, checkpoint_every=1000))
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
 
+
+
+def csgn_table_training(dataset: str, profile: str, temporal: str = "conv") -> ActFormerTraining:
+    """The graph-convolution generator (:class:`~jaxmotion.models.csgn.CSGNConfig`) in ActFormer's recipe on
+    ``dataset`` in ``profile`` (:func:`actformer_table_training`'s critic, batch, steps and GP prior):
+    ``temporal="conv"`` is the CSGN baseline of Tables 1-2 (conditional BatchNorm in the generator, the
+    projection critic), ``"transformer"`` Table 3's row (2), graph convolutions with T-Formers over time."""
+    training = actformer_table_training(dataset, profile)
+    g = training.generator
+    variant = synthetic.VARIANTS[dataset]
+    skeleton = SMPL24 if variant.markers is None else variant.markers.skeleton
+    parents = skeleton.parents + ((0,) if g.output == "smpl" else ())  # SMPL-25: the translation node
+    generator = CSGNConfig(num_classes=g.num_classes, joints=g.joints, channels=g.channels, persons=g.persons,
+                           frames=g.frames, output=g.output, parents=parents, temporal=temporal)
+    if profile == "smoke":
+        generator = dataclasses.replace(generator, widths=(8, 8, 8, 8), heads=2)
+    return dataclasses.replace(training, generator=generator)
