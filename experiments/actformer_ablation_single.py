@@ -7,7 +7,7 @@ ActFormer's protocol by its NTU-25 ST-GCN evaluator (:func:`~jaxmotion.evaluatio
 
 * **(1) Gaussian latent prior**: white noise per frame instead of the GP sequence (``prior="gaussian"``);
 * **(2) GraphConv. in Gen.**: a graph-convolution generator with graph upsampling as CSGN's, T-Formers over
-  time; not implemented yet: the paper's numbers only;
+  time (:class:`~jaxmotion.models.csgn.CSGNConfig` with ``temporal="transformer"``, conditional BatchNorm);
 * **(3) Fixed PE**: sinusoidal positional codes, not learnt (``generator.positions="fixed"``);
 * **(4) Full model**.
 
@@ -26,7 +26,7 @@ import dataclasses
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, TableDataset, actformer_table, interleave_reported
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training
+from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
 
 FULL = "(4) Full model"
 COLUMNS = {metric: ACTFORMER_COLUMNS[metric] for metric in ("accuracy", "FIDm_train", "FID_train")}
@@ -50,11 +50,18 @@ CLAIMS = tuple(
 class ActFormerAblationSingleConfig(experiment.Variants):
     training: ActFormerTraining  # the full model; each row changes it as VARIANTS says
     table: TableDataset
+    graph_generator: ActFormerTraining  # row (2): the same recipe with the graph-convolution generator
     VARIANTS = {"(1) Gaussian latent prior": {"prior": "gaussian"}, "(3) Fixed PE": {"generator.positions": "fixed"},
                 FULL: {}}
     COLUMNS = COLUMNS
     SETUP = staticmethod(lambda profile: (actformer_table_training("synth-ntu1p", profile),
-                                          actformer_table("NTU-1P", profile)))
+                                          actformer_table("NTU-1P", profile),
+                                          csgn_table_training("synth-ntu1p", profile, temporal="transformer")))
+
+    def rows(self) -> dict:
+        rows = super().rows()
+        return {**dict(list(rows.items())[:1]), "(2) GraphConv. in Gen.": self.graph_generator,
+                **dict(list(rows.items())[1:])}
 
 
 def run(config: ActFormerAblationSingleConfig, ctx: experiment.RunContext):

@@ -9,9 +9,12 @@ whole set as the authors train on it): a model per person count, scored by FID_a
 trained on the 15 joints NTU-25 and GTA-22 share (:data:`~jaxmotion.geometry.skeletons.JOINTS15`; the paper's
 "unified skeleton topology", whose conversion the authors did not publish) reading every fighter, max-pooled.
 
-Rows carrying the paper's numbers only: Action2Motion, CSGN and ACTOR on NTU-2P (the paper scales them to two
-persons by concatenating the pair in each frame; this project's baselines are one-person models, not yet
-adapted), CSGN on GTA Combat.
+Baselines: Action2Motion on NTU-2P, the GRU VAE on both persons' joint positions side by side in each frame
+(the paper scales the one-person baselines so), in the dataset's frame; CSGN on NTU-2P and on every combat split
+(the graph-convolution generator writing every person's channels on each joint,
+:func:`~jaxmotion.train.actformer.csgn_table_training`, against ActFormer's critic on the stacked persons).
+ACTOR carries the paper's numbers only (this project's ACTOR learns joint rotations, which NTU's skeletons do
+not have).
 
     python -m experiments.actformer_multi                    # cpu profile
     python -m experiments.actformer_multi --profile paper
@@ -26,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from experiments.actformer_single import a2m_baseline
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import (
@@ -36,7 +40,8 @@ from jaxmotion.evaluation.tables import (
     interleave_reported,
     run_tables,
 )
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
 
 NTU2P = tuple(f"NTU-2P {column}" for column in ACTFORMER_COLUMNS.values())
 
@@ -66,8 +71,8 @@ CLAIMS = tuple(
 COMBAT_CPU_STEPS = 600
 
 
-def _combat_training(persons: int, profile: str) -> ActFormerTraining:
-    training = actformer_table_training(f"synth-combat-{persons}p", profile)
+def _combat_training(persons: int, profile: str, recipe=actformer_table_training) -> ActFormerTraining:
+    training = recipe(f"synth-combat-{persons}p", profile)
     if profile != "cpu":
         return training
     return dataclasses.replace(training, loop=dataclasses.replace(training.loop, steps=COMBAT_CPU_STEPS))
@@ -77,29 +82,36 @@ def _combat_training(persons: int, profile: str) -> ActFormerTraining:
 class ActFormerMultiConfig(experiment.ProfileConfig):
     ntu2p: TableDataset
     ntu2p_actformer: ActFormerTraining
+    ntu2p_a2m: A2MTraining
+    ntu2p_csgn: ActFormerTraining
     combat: tuple[TableDataset, ...]  # one per person count
     combat_actformer: tuple[ActFormerTraining, ...]  # the model of each
+    combat_csgn: tuple[ActFormerTraining, ...]
 
     def __post_init__(self):
-        if len(self.combat) != len(self.combat_actformer):
-            raise ValueError(f"combat_actformer: expected one training per combat table ({len(self.combat)}), "
-                             f"got {len(self.combat_actformer)}")
+        for name in ("combat_actformer", "combat_csgn"):
+            if len(getattr(self, name)) != len(self.combat):
+                raise ValueError(f"{name}: expected one training per combat table ({len(self.combat)}), "
+                                 f"got {len(getattr(self, name))}")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerMultiConfig:
         persons = range(2, 6)
         return cls(actformer_table("NTU-2P", profile), actformer_table_training("synth-ntu2p", profile),
+                   a2m_baseline("NTU-2P", profile, joints=25, persons=2), csgn_table_training("synth-ntu2p", profile),
                    tuple(actformer_table(f"Combat {p}P", profile) for p in persons),
-                   tuple(_combat_training(p, profile) for p in persons))
+                   tuple(_combat_training(p, profile) for p in persons),
+                   tuple(_combat_training(p, profile, csgn_table_training) for p in persons))
 
 
 def run(config: ActFormerMultiConfig, ctx: experiment.RunContext):
     common = dict(workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
-    rows = run_tables([config.ntu2p], lambda table: {"ActFormer": config.ntu2p_actformer},
+    rows = run_tables([config.ntu2p], lambda table: {"Action2Motion": config.ntu2p_a2m, "CSGN": config.ntu2p_csgn,
+                                                     "ActFormer": config.ntu2p_actformer},
                       columns=ACTFORMER_COLUMNS, **common)
-    models = dict(zip((table.label for table in config.combat), config.combat_actformer))
-    combat = run_tables(config.combat, lambda table: {"ActFormer": models[table.label]}, columns=COMBAT_COLUMNS,
-                        **common)
+    models = {table.label: {"CSGN": csgn, "ActFormer": actformer}
+              for table, csgn, actformer in zip(config.combat, config.combat_csgn, config.combat_actformer)}
+    combat = run_tables(config.combat, lambda table: models[table.label], columns=COMBAT_COLUMNS, **common)
     for name, cells in combat.items():
         rows.setdefault(name, {}).update(cells)
     return interleave_reported(rows, REPORTED, ROWS)

@@ -15,8 +15,11 @@ evaluator trained on the other split (:data:`~jaxmotion.evaluation.recognizers.A
   (NTU-1P's skeletons have no rotations for it to learn);
 * **Action2Motion**: the GRU VAE on joint positions (:mod:`jaxmotion.train.a2m`), in the dataset's frame, where
   the evaluator reads positions (NTU-13, NTU-1P; on the SMPL sets it would need rotations it does not make);
-* **CSGN** is not implemented yet: its rows carry the paper's numbers only, as do the rows above where they
-  do not run.
+* **CSGN**: the graph-convolution GAN generator on the GP latent with conditional BatchNorm, trained by
+  ActFormer's recipe against the same projection critic (:func:`~jaxmotion.train.actformer.csgn_table_training`,
+  :mod:`jaxmotion.models.csgn`), on every dataset.
+
+Rows the paper has and a dataset does not run carry the paper's numbers only.
 
     python -m experiments.actformer_single                   # cpu profile: NTU-13
     python -m experiments.actformer_single --set 'datasets=["NTU-13","NTU-1P"]'
@@ -51,7 +54,7 @@ from jaxmotion.evaluation.tables import (
     run_tables,
 )
 from jaxmotion.train.a2m import A2MTraining, a2m_table_training
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training
+from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
 from jaxmotion.train.actor import ActorTraining, table_training
 
 LABELS = ("NTU-13", "NTURecon-1P", "NTU-1P", "BABEL")
@@ -90,10 +93,11 @@ def actor_baseline(label: str, profile: str) -> ActorTraining:
     return dataclasses.replace(base, model=dataclasses.replace(base.model, num_classes=classes), canonical=False)
 
 
-def a2m_baseline(label: str, profile: str, joints: int) -> A2MTraining:
-    """Action2Motion on ``label``'s ``joints`` positions in the dataset's frame."""
+def a2m_baseline(label: str, profile: str, joints: int, persons: int = 1) -> A2MTraining:
+    """Action2Motion on ``label``'s ``joints`` positions in the dataset's frame (several persons: all their
+    joints side by side in each frame, as the paper scales the baselines to NTU-2P)."""
     base = a2m_table_training("NTU-13", profile)
-    model = dataclasses.replace(base.model, pose_dim=3 * joints, num_classes=STAND_INS[label].num_classes)
+    model = dataclasses.replace(base.model, pose_dim=3 * joints * persons, num_classes=STAND_INS[label].num_classes)
     return dataclasses.replace(base, model=model, canonical=False)
 
 
@@ -105,16 +109,20 @@ class ActFormerSingleConfig(experiment.ProfileConfig):
     datasets: tuple[str, ...]  # which of Table 1's datasets run (their fields below)
     ntu13: TableDataset
     ntu13_actformer: ActFormerTraining
+    ntu13_csgn: ActFormerTraining
     ntu13_actor: ActorTraining
     ntu13_a2m: A2MTraining
     nturecon: TableDataset
     nturecon_actformer: ActFormerTraining
+    nturecon_csgn: ActFormerTraining
     nturecon_actor: ActorTraining
     ntu1p: TableDataset
     ntu1p_actformer: ActFormerTraining
+    ntu1p_csgn: ActFormerTraining
     ntu1p_a2m: A2MTraining
     babel: TableDataset
     babel_actformer: ActFormerTraining
+    babel_csgn: ActFormerTraining
     babel_actor: ActorTraining
 
     def __post_init__(self):
@@ -129,6 +137,7 @@ class ActFormerSingleConfig(experiment.ProfileConfig):
             name = _field(label)
             fields[name] = actformer_table(label, profile)
             fields[f"{name}_actformer"] = actformer_table_training(STAND_INS[label].dataset, profile)
+            fields[f"{name}_csgn"] = csgn_table_training(STAND_INS[label].dataset, profile)
             if label in ACTOR_RUNS:
                 fields[f"{name}_actor"] = actor_baseline(label, profile)
             if label in A2M_RUNS:
@@ -144,8 +153,8 @@ def _field(label: str) -> str:
 
 def rows_of(config: ActFormerSingleConfig, label: str) -> dict:
     name = _field(label)
-    rows = {"Action2Motion": getattr(config, f"{name}_a2m", None), "ACTOR": getattr(config, f"{name}_actor", None),
-            "ActFormer": getattr(config, f"{name}_actformer")}
+    rows = {"Action2Motion": getattr(config, f"{name}_a2m", None), "CSGN": getattr(config, f"{name}_csgn"),
+            "ACTOR": getattr(config, f"{name}_actor", None), "ActFormer": getattr(config, f"{name}_actformer")}
     return {row: recipe for row, recipe in rows.items() if recipe is not None}
 
 

@@ -9,7 +9,7 @@ import pytest
 from jaxmotion.data.motion import SKELETONS, Motion, pack
 from jaxmotion.models.a2m import A2MVAEConfig
 from jaxmotion.pipelines.a2m import a2m_sampler
-from jaxmotion.train.a2m import A2MTraining, train_a2m
+from jaxmotion.train.a2m import A2MTraining, a2m_state, a2m_step, train_a2m
 from jaxmotion.train.loop import LoopConfig
 
 SMPL24 = SKELETONS["SMPL-24 (HumanAct12)"]
@@ -64,3 +64,28 @@ def test_mismatched_model_and_data_raise():
                   jax.random.key(0))
     with pytest.raises(ValueError, match="pose_dim 60"):
         a2m_sampler(None, A2MVAEConfig(pose_dim=60, num_classes=3, kl_weight=0.0), SMPL24)
+
+
+def test_several_persons_are_one_body_of_their_joints_per_frame_person_major():
+    """ActFormer's scaling of the baseline to NTU-2P: P·J joints a frame in training, P persons out."""
+    rng = np.random.default_rng(1)
+    clips = rng.normal(size=(4, 2, 10, 24, 3)).astype(np.float32)
+    pairs = pack([Motion(joints=j, translation=j[:, :, 0].copy(), rotations=None, action=i % CLASSES)
+                  for i, j in enumerate(clips)], name="pairs", split="train", class_names=("a", "b", "c"),
+                 skeleton=SMPL24, fps=20, persons=2)
+    model = A2MVAEConfig(pose_dim=144, num_classes=CLASSES, kl_weight=1e-4, hidden=8, latent=4, decoder_layers=1)
+    training = A2MTraining(model, LoopConfig(2, log_every=1, checkpoint_every=0), batch_size=4, window=10,
+                           canonical=False)
+    params = train_a2m(pairs, training, jax.random.key(0), progress=False)
+    motions = training.sampler(params, SMPL24)(jax.random.key(1), np.array([0, 2]), np.array([10, 10]))
+    assert motions["joints"].shape == (2, 2, 10, 24, 3) and motions["translation"].shape == (2, 2, 10, 3)
+    np.testing.assert_array_equal(motions["translation"], motions["joints"][..., 0, :])
+    # the step reads frame t as person 0's joints then person 1's: the same pairs swapped are other poses
+    step = jax.jit(a2m_step(model))
+    state = a2m_state(training, jax.random.key(2))
+    batch = {"joints": clips, "actions": np.array([0, 1, 2, 0])}
+    _, metrics = step(state, batch, jax.random.key(3))
+    _, swapped = step(state, {**batch, "joints": clips[:, ::-1]}, jax.random.key(3))
+    assert np.isfinite(float(metrics["loss"])) and float(metrics["recon"]) != float(swapped["recon"])
+    with pytest.raises(ValueError, match=r"pose_dim 72 and 3 classes; pairs has 48 joints in all persons"):
+        train_a2m(pairs, _training(1), jax.random.key(0))

@@ -1,5 +1,6 @@
 """ActFormer's tables run end to end in their smoke profiles, laid out as the paper lays them out."""
 
+import dataclasses
 import importlib
 
 import numpy as np
@@ -7,6 +8,7 @@ import pytest
 from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
 
 from experiments import actformer_single
+from jaxmotion.models.csgn import CSGNConfig
 
 
 def _columns(label):
@@ -17,16 +19,16 @@ def _columns(label):
 def test_single_person_table_has_the_paper_rows_and_each_baseline_where_it_reads_the_data(tmp_path, monkeypatch,
                                                                                           cache):
     rows = _smoke(actformer_single, tmp_path, monkeypatch, cache)
-    assert list(rows) == ["Real", "Action2Motion", "Action2Motion (reported)", "CSGN (reported)", "ACTOR",
+    assert list(rows) == ["Real", "Action2Motion", "Action2Motion (reported)", "CSGN", "CSGN (reported)", "ACTOR",
                           "ACTOR (reported)", "ActFormer", "ActFormer (reported)"]
     measured = _columns("NTU-13") + _columns("BABEL")
-    for name in ("Real", "ACTOR", "ActFormer"):
+    for name in ("Real", "CSGN", "ACTOR", "ActFormer"):
         assert list(rows[name]) == measured
     assert list(rows["Action2Motion"]) == _columns("NTU-13")  # it makes no rotations for BABEL's evaluator
     assert list(rows["ActFormer (reported)"]) == [c for label in actformer_single.LABELS for c in _columns(label)]
     assert rows["ActFormer (reported)"]["NTU-1P FID_m"] == 12.53
     repetitions = actformer_single.ActFormerSingleConfig.smoke().ntu13.protocol.repetitions
-    for name in ("Real", "Action2Motion", "ACTOR", "ActFormer"):
+    for name in ("Real", "Action2Motion", "CSGN", "ACTOR", "ActFormer"):
         for column, cell in rows[name].items():
             assert cell["n"] == repetitions and np.isfinite(cell["mean"]), (name, column)
     # the Real row: two draws of the same windows' features lie closer than any generator's to them
@@ -58,7 +60,7 @@ def test_ablation_tables_measure_every_implemented_row_and_report_the_rest(name,
     module = importlib.import_module(f"experiments.{name}")
     rows = _smoke(module, tmp_path, monkeypatch, cache)
     config = module.__dict__[next(k for k in module.__dict__ if k.endswith("Config"))].smoke()
-    measured = list(config.VARIANTS)
+    measured = list(config.rows())
     assert [row for row in rows if not row.endswith("(reported)")] == ["Real", *measured]
     assert [row[:-len(" (reported)")] for row in rows if row.endswith("(reported)")] == list(module.REPORTED)
     columns = list(config.COLUMNS.values())
@@ -83,6 +85,11 @@ def test_each_ablation_row_changes_only_what_its_name_says():
                                                  "generator.interaction")
                       if _get(rows[name], path) != _get(cfg.training, path)}
             assert differ == set(changes), (module.__name__, name, differ)
+    single = actformer_ablation_single.ActFormerAblationSingleConfig.paper()
+    graph = single.rows()["(2) GraphConv. in Gen."]  # the full recipe with the graph-convolution generator
+    assert list(single.rows()) == list(actformer_ablation_single.REPORTED)
+    assert isinstance(graph.generator, CSGNConfig) and graph.generator.temporal == "transformer"
+    assert dataclasses.replace(graph, generator=single.training.generator) == single.training
     interaction = actformer_interaction.ActFormerInteractionConfig.paper()
     assert interaction.table.person_evaluator.dataset == "synth-ntu1p" and interaction.training.generator.persons == 2
 
@@ -98,12 +105,13 @@ def test_multi_person_table_scores_the_pair_and_its_aggregated_persons(tmp_path,
     from experiments import actformer_multi
 
     rows = _smoke(actformer_multi, tmp_path, monkeypatch, cache)
-    assert [row for row in rows if not row.endswith("(reported)")] == ["Real", "ActFormer"]
+    assert [row for row in rows if not row.endswith("(reported)")] == ["Real", "Action2Motion", "CSGN", "ActFormer"]
+    assert list(rows["Action2Motion"]) == list(actformer_multi.NTU2P)  # the pair side by side in each frame
     combat = [f"Combat {p}P FIDa" for p in range(2, 6)]
     assert list(rows["ActFormer"]) == list(actformer_multi.NTU2P) + combat
-    assert list(rows["Real"]) == list(rows["ActFormer"])
+    assert list(rows["Real"]) == list(rows["ActFormer"]) == list(rows["CSGN"])
     assert rows["CSGN (reported)"]["Combat 5P FIDa"] == 4.02
-    for column in actformer_multi.NTU2P[1:] + tuple(combat):  # the real second draw lies nearer than the generator
-        assert rows["Real"][column]["mean"] < rows["ActFormer"][column]["mean"], column
+    for column in actformer_multi.NTU2P[1:] + tuple(combat):  # the real second draw lies nearer than the generators
+        assert rows["Real"][column]["mean"] < min(rows[name][column]["mean"] for name in ("CSGN", "ActFormer")), column
     workdir = tmp_path / "actformer_multi" / "smoke" / "seed-0"
     assert (workdir / "combat-5p" / "actformer").is_dir()

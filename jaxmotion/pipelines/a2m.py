@@ -30,14 +30,16 @@ def _generate_rows(params: A2MVAEParams, key_data: jax.Array, actions: jax.Array
 def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
     """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions``: ``joints [N, T, J, 3]``
     (``T = max(durations)``), ``translation [N, T, 3]`` (the root joint's path: A2M models joints only),
-    ``mask [N, T]``, ``lengths [N]`` and ``actions [N]``.
+    ``mask [N, T]``, ``lengths [N]`` and ``actions [N]``. A model whose ``pose_dim`` is P times the skeleton's
+    J·3 writes P persons per frame, person-major: ``joints [N, P, T, J, 3]``, ``translation [N, P, T, 3]``.
 
     Row n is generated for its own duration (A2M's time counter runs over it) from ``fold_in(key, n)``, so
     a row does not depend on the others; frames past its duration repeat its last frame, as real windows do.
     """
-    if config.pose_dim != 3 * skeleton.num_joints:
-        raise ValueError(f"skeleton: the model's pose_dim {config.pose_dim} is not 3 × the {skeleton.num_joints} "
-                         f"joints of {skeleton.name}")
+    persons, rest = divmod(config.pose_dim, 3 * skeleton.num_joints)
+    if rest or not persons:
+        raise ValueError(f"skeleton: the model's pose_dim {config.pose_dim} is not a multiple of 3 × the "
+                         f"{skeleton.num_joints} joints of {skeleton.name}")
 
     def sampler(key, actions, durations):
         check_actions(actions, config.num_classes)
@@ -48,14 +50,15 @@ def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
         keys = np.asarray(jax.vmap(lambda n: jax.random.key_data(jax.random.fold_in(key, n)))(
             jnp.arange(len(actions))))
         frames = int(durations.max())
-        joints = np.empty((len(actions), frames, skeleton.num_joints, 3), np.float32)
+        joints = np.empty((len(actions), frames, persons, skeleton.num_joints, 3), np.float32)
         for duration in np.unique(durations):  # one generation per distinct duration (the protocol has one)
             rows = np.flatnonzero(durations == duration)
             poses = _generate_rows(params, keys[rows], jnp.asarray(actions[rows]), frames=int(duration), config=config)
             index, _ = window_frames(jnp.zeros(1, jnp.int32), jnp.array([duration]), frames)  # repeat the last frame
-            joints[rows] = np.asarray(poses).reshape(len(rows), int(duration), -1, 3)[:, np.asarray(index[0])]
+            joints[rows] = np.asarray(poses).reshape(len(rows), int(duration), persons, -1, 3)[:, np.asarray(index[0])]
+        joints = joints[:, :, 0] if persons == 1 else np.ascontiguousarray(np.moveaxis(joints, 2, 1))
         mask = np.arange(frames)[None] < durations[:, None]
-        return {"joints": joints, "translation": joints[:, :, 0].copy(), "mask": mask, "lengths": durations,
+        return {"joints": joints, "translation": joints[..., 0, :].copy(), "mask": mask, "lengths": durations,
                 "actions": actions}
 
     return sampler

@@ -8,7 +8,9 @@ checkpoints, resume). Its protocol sampler is :func:`jaxmotion.pipelines.a2m.a2m
 
 Data as Action2Motion reads it: ``window``-frame windows of joint positions, flattened joint-major to
 ``F = J·3`` per frame; clips shorter than the window are padded by repeating their last frame and the loss
-covers the padding, as A2M's loaders pad and its trainer has no mask. The windows are in the canonical frame
+covers the padding, as A2M's loaders pad and its trainer has no mask. Motions of P persons are read as one
+body of P·J joints per frame, person-major (ActFormer's way of scaling the one-person baselines to NTU-2P:
+``pose_dim`` = P·J·3). The windows are in the canonical frame
 (root of frame 0 at the origin, facing +Z; ``canonical=False``: only moved to the origin, A2M's own
 normalisation) because A2M's HumanAct12 joints come in a canonical frame and ACTOR, which Table 3 compares
 with, trains on canonical windows too.
@@ -22,6 +24,7 @@ import dataclasses
 from pathlib import Path
 
 import jax
+import jax.numpy as jnp
 from flax.training.train_state import TrainState
 
 from jaxmotion.data.datasets import PAPER_SIZES
@@ -72,10 +75,11 @@ class A2MTraining:
 
 
 def _check_data(training: A2MTraining, data: MotionDataset) -> None:
-    model, joints = training.model, data.skeleton.num_joints
+    model, joints = training.model, data.persons * data.skeleton.num_joints
     if model.pose_dim != 3 * joints or model.num_classes != data.num_classes:
         raise ValueError(f"A2MTraining.model: expects pose_dim {model.pose_dim} and {model.num_classes} classes; "
-                         f"{data.name} has {joints} joints (pose_dim {3 * joints}) and {data.num_classes} classes")
+                         f"{data.name} has {joints} joints in all persons (pose_dim {3 * joints}) and "
+                         f"{data.num_classes} classes")
 
 
 def train_a2m(data: MotionDataset, training: A2MTraining, key: jax.Array, workdir: str | None = None, *,
@@ -97,11 +101,14 @@ def a2m_state(training: A2MTraining, key: jax.Array) -> TrainState:
 
 def a2m_step(config: A2MVAEConfig):
     """The training step ``(state, batch, key) -> (state, loss terms)`` (the loop jits it): the VAE loss on a
-    pipeline batch's joints (flattened joint-major, ``[B, T, J·3]``), the feedback draw and the
-    reparameterisation from ``key``, one Adam update."""
+    pipeline batch's joints (flattened joint-major, ``[B, T, J·3]``; several persons ``[B, P, T, J, 3]`` person-major,
+    ``[B, T, P·J·3]``), the feedback draw and the reparameterisation from ``key``, one Adam update."""
 
     def step_fn(state, batch, key):
-        poses = batch["joints"].reshape(*batch["joints"].shape[:2], -1)
+        joints = batch["joints"]
+        if joints.ndim == 5:  # [B, P, T, J, 3] -> [B, T, P, J, 3]: every person's joints in each frame
+            joints = jnp.moveaxis(joints, 1, 2)
+        poses = joints.reshape(*joints.shape[:2], -1)
         grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(state.params, key, poses, batch["actions"], config)
         return state.apply_gradients(grads=grads), metrics
 
