@@ -2,21 +2,39 @@
 against a PyTorch peer of the same architecture, timed in the same run.
 
     python benchmarks/bench_actformer.py [--repeats 5] [--batch 64 [32 ...]] [--only train|generate]
-                                         [--per-class 100] [--baseline-threads N]
+                                         [--per-class 100] [--baseline-threads N] [--peer-device cpu|cuda]
+                                         [--precision highest|default] [--out PATH]
 
 The PyTorch peer (``benchmarks/peers/actformer_torch.py``, written from FACTS.md §5 and jaxmotion's docstrings)
 runs when ``import torch`` works: ``pip install -e ".[bench]"`` (torch is a benchmark extra, never a runtime or
-test dependency). Without torch the script says so and leaves the PyTorch columns empty.
+test dependency). Without torch the script says so and leaves the PyTorch columns empty. ``--out PATH`` also
+writes the header, the arguments, and each row's parity check and timings as JSON (rewritten after each part).
 
-Run it on a quiet machine: the numbers are wall times of multi-threaded CPU work, and any other job on the
-cores slows them by tens of percent. Threads: XLA's defaults (its CPU client uses every core available to the
+Devices: jaxmotion runs on JAX's default backend (the first device: a GPU when jax has its CUDA plugin and sees
+one); the peer on ``--peer-device`` (default ``cuda`` when ``torch.cuda.is_available()``, else ``cpu``): its
+models, optimisers, inputs and its own random draws live there, and on CUDA each timed peer call ends with
+``torch.cuda.synchronize()`` so that its wall time covers the GPU work (jaxmotion's calls block on their
+results). The header names the JAX backend and device and the peer's device. On a GPU machine, from the
+repository root: ``PYTHONPATH=. python3 benchmarks/bench_actformer.py --out results.json``, or
+``benchmarks/device_actformer.sh`` (writes the table and the JSON under ``$OUT``).
+
+Precision: both sides compute in float32. jaxmotion leaves the matmul precision of its models to XLA's default
+(only a few calls, such as the spectral-norm power iterations and the GP prior, ask for ``Precision.HIGHEST``),
+which on GPUs may use TF32 for float32 dots and convolutions. ``--precision highest`` (the default) runs
+everything under ``jax.default_matmul_precision("highest")`` and, for a CUDA peer, sets
+``torch.backends.cuda.matmul.allow_tf32`` and ``torch.backends.cudnn.allow_tf32`` to False: full float32 on both
+sides. ``--precision default`` leaves XLA's default and turns both TF32 flags on, roughly the same trade. A CPU
+peer's precision settings are left at PyTorch's defaults (full float32).
+
+On CPU, run it on a quiet machine: the numbers are wall times of multi-threaded CPU work, and any other job on
+the cores slows them by tens of percent. Threads: XLA's defaults (its CPU client uses every core available to the
 process; no thread flags are set here; ``XLA_FLAGS`` are printed as XLA sees them, including the YNN-fusion
 workaround that importing jaxmotion adds on jaxlib 0.10); PyTorch gets the same core count
 (``torch.set_num_threads``), or ``--baseline-threads``. Expect several minutes: a training iteration is five
 generator passes and nine critic passes over 64 two-person clips, and the step compiles twice (the timed
 batch and the parity batch).
 
-What is timed (``float32``, CPU, the authors' NTU-2P configuration: ``GeneratorConfig(num_classes=26,
+What is timed (``float32``, the authors' NTU-2P configuration: ``GeneratorConfig(num_classes=26,
 persons=2)``, i.e. 25 joints x 3 channels, 60 frames, width 8 per joint = 200, depth 2 (two I-Former +
 T-Former pairs), 8 heads, MLP ratio 2, spectral norm, ``skeleton`` output; critic base 32 channels, 6 channels
 per node (2 persons x 3) plus the motion flow, NTU-25 adjacencies from ``critic_graphs``; 1 358 075 and
@@ -67,13 +85,15 @@ timing on a batch of ``CHECK_BATCH`` (16) at the same architecture:
 Timing: jaxmotion's step and ``generate`` are compiled ahead of time (``jit(...).lower(...).compile()``;
 reported as "compile"); ``generate_motions`` jits on its first call, whose time (trace + compile + one run) is
 reported instead. PyTorch is eager and has none. Each side is called once to warm up, then the sides are called
-alternately ``--repeats`` times (so background load hits both alike), jaxmotion with ``block_until_ready``; the
-table gives medians and min-max ranges.
+alternately ``--repeats`` times (so background load hits both alike), jaxmotion with ``block_until_ready``, a
+CUDA peer with ``torch.cuda.synchronize()``; the table gives medians and min-max ranges.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
 import os
 import sys
 import time
@@ -117,6 +137,7 @@ WARM_PASSES = 5  # training-mode generator passes that move the start vectors be
 CONFIG = GeneratorConfig(num_classes=26, persons=2)  # the authors' NTU-2P generator (the defaults otherwise)
 # XLA's CPU client runs on every core the process may use; PyTorch is given the same number of threads.
 THREADS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+PEER_DEVICE = "cpu"  # where the peer's models and inputs live: set once by main from --peer-device
 
 
 # --------------------------------------------------------------------------------------------- helpers
@@ -137,16 +158,37 @@ def pipeline_batch(data, recipe: ActFormerTraining, key: jax.Array) -> dict:
 
 
 def to_torch(x):
-    return torch.from_numpy(np.array(x))
+    """A host copy of ``x`` as a tensor on the peer's device."""
+    return torch.from_numpy(np.array(x)).to(PEER_DEVICE)
+
+
+def to_numpy(t) -> np.ndarray:
+    """A peer tensor (on any device) as a host array."""
+    return t.detach().cpu().numpy()
+
+
+def synchronised(fn):
+    """``fn`` for timing: on CUDA, followed by ``torch.cuda.synchronize()`` so the wall time covers the GPU work;
+    on CPU, ``fn`` itself."""
+    if PEER_DEVICE != "cuda":
+        return fn
+
+    def call():
+        fn()
+        torch.cuda.synchronize()
+
+    return call
 
 
 def build_peers(recipe: ActFormerTraining, graphs, params: dict, buffers: dict):
-    """Generator, critic and their Adams holding copies of jaxmotion's parameters and vectors."""
+    """Generator, critic and their Adams holding copies of jaxmotion's parameters and vectors, on the peer's
+    device (parameters, power-iteration vectors and adjacency buffers)."""
     generator = peer.load_jaxmotion(peer.Generator(CONFIG.num_classes),
                                     peer.generator_state_dict(params["generator"], buffers["generator"]))
     critic_t = peer.load_jaxmotion(peer.Critic(graphs, CONFIG.num_classes, channels=recipe.critic.channels,
                                                base_channels=recipe.critic_base_channels),
                                    peer.critic_state_dict(params["critic"], buffers["critic"]))
+    generator, critic_t = generator.to(PEER_DEVICE), critic_t.to(PEER_DEVICE)  # before the optimisers
     return generator, critic_t, peer.make_optimizers(generator, critic_t, recipe.learning_rate, recipe.betas)
 
 
@@ -190,7 +232,7 @@ def peer_losses(recipe: ActFormerTraining, graphs, params: dict, buffers: dict, 
     """The same two losses and gradients from fresh peers (a training forward moves the vectors in place):
     ``(d_loss, {name: grad}), (g_loss, {name: grad})``."""
     latents, labels = (to_torch(a) for a in draws)
-    grads = lambda model: {name: p.grad.numpy() for name, p in model.named_parameters()}  # noqa: E731
+    grads = lambda model: {name: to_numpy(p.grad) for name, p in model.named_parameters()}  # noqa: E731
     generator, critic_t, _ = build_peers(recipe, graphs, params, buffers)
     with torch.no_grad():
         fake = generator(latents[0], labels[0])
@@ -216,7 +258,7 @@ def max_parameter_difference(state, generator, critic_t) -> float:
     """Largest |Δ| over every parameter of both networks after training each side."""
     pairs = [(peer.generator_state_dict(state.params["generator"], state.buffers["generator"]), generator),
              (peer.critic_state_dict(state.params["critic"], state.buffers["critic"]), critic_t)]
-    return max(float(np.abs(np.asarray(arrays[name]) - p.detach().numpy()).max())
+    return max(float(np.abs(np.asarray(arrays[name]) - to_numpy(p)).max())
                for arrays, model in pairs for name, p in model.named_parameters())
 
 
@@ -224,7 +266,7 @@ def check_scores(recipe: ActFormerTraining, graphs, state, motions, labels) -> f
     """Critic scores in eval mode with ``state``'s weights and vectors loaded afresh: max |Δ| / max |score|."""
     _, critic_t, _ = build_peers(recipe, graphs, state.params, state.buffers)
     ours, _ = critic(recipe.critic, graphs, state.params["critic"], state.buffers["critic"], motions, labels)
-    theirs = peer.score(critic_t, to_torch(motions), to_torch(labels)).numpy()
+    theirs = to_numpy(peer.score(critic_t, to_torch(motions), to_torch(labels)))
     return float(np.abs(np.asarray(ours) - theirs).max() / np.abs(np.asarray(ours)).max())
 
 
@@ -264,7 +306,7 @@ def check_generate_parity(params, spectral, generator, z, labels) -> tuple[float
     """The first rows through both generators: max |Δ| over all outputs, and max |Δ root| / max |root|."""
     rows = slice(0, PARITY_ROWS)
     ours = np.asarray(generate(CONFIG, params, spectral, z[rows], labels[rows])[0])
-    theirs = peer.generate(generator, to_torch(z[rows]), to_torch(labels[rows])).numpy()
+    theirs = to_numpy(peer.generate(generator, to_torch(z[rows]), to_torch(labels[rows])))
     root = ours[..., 0, :]
     return float(np.abs(ours - theirs).max()), float(np.abs(root - theirs[..., 0, :]).max() / np.abs(root).max())
 
@@ -290,7 +332,7 @@ def bench_train(data, graphs, parents, batch_size: int, repeats: int, parity: bo
             peer.train_iteration(generator, critic_t, optimizers, reals, labels, factors=factors,
                                  num_classes=CONFIG.num_classes)
 
-        theirs = peer_iteration
+        theirs = synchronised(peer_iteration)
 
     step_fn = actformer_step(recipe, graphs, parents)
     return {**time_loop_step(step_fn, state, batch, k_loop, theirs, repeats), "parity": check}
@@ -330,7 +372,7 @@ def bench_generate(data, graphs, per_class: int, repeats: int) -> tuple[dict, di
         def peer_generate():
             peer.generate(generator, z_t, labels_t)
 
-        theirs = peer_generate
+        theirs = synchronised(peer_generate)
 
     direct, peer_result = time_pair(lambda: jax.block_until_ready(compiled(params, spectral, z, labels)), theirs,
                                     repeats)
@@ -390,7 +432,37 @@ def print_table(rows) -> None:
     print()
 
 
+def parity_json(p):
+    """A row's parity check with named fields (None when not checked)."""
+    if isinstance(p, dict):
+        losses = ("jaxmotion", "pytorch", "relative_difference")
+        return {"batch": CHECK_BATCH,
+                "gradients": {part: dict(zip(losses + ("grad_max_abs_diff_over_max_abs", "grad_norm_diff_over_norm"),
+                                             values)) for part, values in p["gradients"].items()},
+                "iteration": {**{part: dict(zip(losses, p["iteration"][part])) for part in ("critic", "generator")},
+                              "max_abs_parameter_difference": p["iteration"]["parameters"]},
+                "critic_scores_max_abs_diff_over_max_abs": p["scores"]}
+    if isinstance(p, tuple):
+        return {"rows": PARITY_ROWS, "max_abs_difference": p[0], "root_max_abs_diff_over_max_abs": p[1]}
+    return None
+
+
+def write_json(path: Path, header: list[str], args, rows) -> None:
+    """The header, the arguments, and every row's parity check and timings (ms; compile in s)."""
+    def timings(r):
+        return None if r is None else {k: r[k] for k in ("median", "min", "max")}
+
+    doc = {"header": header, "args": {k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()},
+           "rows": [{"call": name, "jaxmotion_ms": timings(r), "compile_s": r["compile_s"],
+                     "pytorch_ms": timings(r["peer"]),
+                     "speedup": None if r["peer"] is None else r["peer"]["median"] / r["median"], "target": target,
+                     "parity": parity_json(r["parity"])} for name, r, target in rows]}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(doc, indent=1, default=float) + "\n")
+
+
 def main() -> None:
+    global PEER_DEVICE
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed calls per row and side, after one warm-up")
     parser.add_argument("--batch", type=int, nargs="+", default=[64],
@@ -399,22 +471,57 @@ def main() -> None:
     parser.add_argument("--per-class", type=int, default=100, help="generated clips per class (26 classes)")
     parser.add_argument("--baseline-threads", type=int, default=THREADS,
                         help="threads for PyTorch (torch.set_num_threads); default: the cores XLA uses")
+    parser.add_argument("--peer-device", choices=("cpu", "cuda"), default=None,
+                        help="where the PyTorch peer runs; default: cuda if torch.cuda.is_available(), else cpu")
+    parser.add_argument("--precision", choices=("default", "highest"), default="highest",
+                        help="float32 matmul precision: highest (jax.default_matmul_precision('highest'), PyTorch "
+                             "TF32 off on CUDA) or default (XLA's default, PyTorch TF32 on on CUDA)")
+    parser.add_argument("--out", type=Path, default=None, help="also write the parity and timing rows as JSON here")
     args = parser.parse_args()
     if args.repeats < 1 or min(args.batch) < 1 or args.per_class < 1:
         parser.error("--repeats, --batch and --per-class must be >= 1")
+    cuda = peer is not None and torch.cuda.is_available()
+    if args.peer_device is None:
+        args.peer_device = "cuda" if cuda else "cpu"
+    elif args.peer_device == "cuda" and not cuda:
+        parser.error("--peer-device cuda: " + ("torch is not installed" if peer is None
+                                               else "torch.cuda.is_available() is False"))
+    PEER_DEVICE = args.peer_device
+    precision = (contextlib.nullcontext() if args.precision == "default"
+                 else jax.default_matmul_precision(args.precision))
+    with precision:  # read when each function is traced: covers every jit and op below
+        run(args)
 
-    print(machine_header())
-    # No thread settings for XLA: its defaults. jaxmotion's import may add its YNN-fusion workaround.
-    print(f"XLA_FLAGS={os.environ.get('XLA_FLAGS', '') or '(unset)'} (no thread flags: XLA default threading, "
-          f"{THREADS} cores); repeats {args.repeats}; load average {os.getloadavg()[0]:.1f} at the start")
+
+def run(args) -> None:
+    device = jax.devices()[0]
+    header = [machine_header(),
+              # No thread settings for XLA: its defaults. jaxmotion's import may add its YNN-fusion workaround.
+              f"XLA_FLAGS={os.environ.get('XLA_FLAGS', '') or '(unset)'} (no thread flags: XLA default threading, "
+              f"{THREADS} cores); repeats {args.repeats}; load average {os.getloadavg()[0]:.1f} at the start",
+              f"jaxmotion: JAX backend {jax.default_backend()}, device {device.device_kind} (platform "
+              f"{device.platform}), float32, matmul precision "
+              + ("'highest' (jax.default_matmul_precision: full float32 dots and convolutions)"
+                 if args.precision == "highest" else
+                 "XLA's default (on GPUs it may use TF32 for float32 dots and convolutions)")]
     if peer is None:
-        print('PyTorch peer: torch is not installed; the peer needs `pip install -e ".[bench]"` '
-              "(its columns are left empty).")
+        header.append('PyTorch peer: torch is not installed; the peer needs `pip install -e ".[bench]"` '
+                      "(its columns are left empty).")
     else:
         torch.set_num_threads(args.baseline_threads)
         torch.manual_seed(0)
-        print(f"PyTorch peer: torch {torch.__version__}, {torch.get_num_threads()} threads (torch.set_num_threads"
-              + (", as many as XLA's cores" if args.baseline_threads == THREADS else "") + "), eager, float32")
+        threads = (f"{torch.get_num_threads()} threads (torch.set_num_threads"
+                   + (", as many as XLA's cores" if args.baseline_threads == THREADS else "") + ")")
+        if PEER_DEVICE == "cuda":
+            tf32 = args.precision == "default"
+            torch.backends.cuda.matmul.allow_tf32 = torch.backends.cudnn.allow_tf32 = tf32
+            header.append(f"PyTorch peer: torch {torch.__version__}, device cuda ({torch.cuda.get_device_name()}), "
+                          f"{threads}, eager, float32, TF32 {'on' if tf32 else 'off'} "
+                          f"(torch.backends.cuda.matmul.allow_tf32 = torch.backends.cudnn.allow_tf32 = {tf32}); "
+                          "each timed call ends with torch.cuda.synchronize()")
+        else:
+            header.append(f"PyTorch peer: torch {torch.__version__}, device cpu, {threads}, eager, float32")
+    print("\n".join(header))
     print()
 
     recipe = training(max(args.batch))
@@ -428,15 +535,22 @@ def main() -> None:
     graphs = critic_graphs(recipe, parents)
 
     rows = []  # (name, result, target)
+
+    def save() -> None:  # after each part, so that a run cut short still leaves its finished rows
+        if args.out is not None:
+            write_json(args.out, header, args, rows)
+
     if args.only in (None, "train"):
         for i, batch_size in enumerate(args.batch):
             rows.append((f"train iteration (4 critic + 1 generator), {batch_size} x 2 x 60",
                          bench_train(data, graphs, parents, batch_size, args.repeats, parity=i == 0), TARGET_TRAIN))
+            save()
     if args.only in (None, "generate"):
         n = args.per_class * CONFIG.num_classes
         direct, pipeline = bench_generate(data, graphs, args.per_class, args.repeats)
         rows.append((f"generate {n} x 2 x 60 (generate, jit)", direct, TARGET_GENERATE))
         rows.append((f"generate {n} x 2 x 60 (generate_motions)", pipeline, TARGET_GENERATE))
+        save()
 
     print_parity(rows)
     print_table(rows)

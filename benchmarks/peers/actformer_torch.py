@@ -49,7 +49,8 @@ on its own real batch and fresh fakes (generator in train mode under ``no_grad``
 critic's parameters frozen for it (``requires_grad_(False)``: their gradients would be thrown away; the critic's
 power iterations still move, in train mode, as in jaxmotion). Adam 2e-4, betas (0, 0.999), for both. Latents
 come from the GP prior (``z = F_z n``, the factors ``[Z, T, T]`` jaxmotion's ``latent_factors`` gives) and
-fake labels uniformly, drawn here unless given (the parity check gives the ones jaxmotion's step draws).
+fake labels uniformly, drawn here unless given (the parity check gives the ones jaxmotion's step draws), on the
+device of the inputs (CPU or CUDA: the models, their adjacency buffers and the inputs are moved together).
 
 Axes: B batch, N critic updates, P persons, T frames (S = T + 1 tokens), V / W input / output nodes, C
 channels, Z latent channels, D width, K classes / hop kernels.
@@ -246,9 +247,9 @@ def make_optimizers(generator: Generator, critic: Critic, learning_rate: float =
 
 
 def sample_latents(factors: torch.Tensor, batch: int) -> torch.Tensor:
-    """``batch`` GP latent sequences ``[B, T, Z]`` from the factors ``[Z, T, T]``."""
+    """``batch`` GP latent sequences ``[B, T, Z]`` from the factors ``[Z, T, T]`` (drawn on their device)."""
     channels, steps, _ = factors.shape
-    return torch.einsum("zts,bzs->btz", factors, torch.randn(batch, channels, steps))
+    return torch.einsum("zts,bzs->btz", factors, torch.randn(batch, channels, steps, device=factors.device))
 
 
 def _step(optimizer: torch.optim.Optimizer, loss: torch.Tensor) -> None:
@@ -263,13 +264,14 @@ def train_iteration(generator: Generator, critic: Critic, optimizers, reals: tor
                     ) -> tuple[torch.Tensor, torch.Tensor]:
     """One loop step: ``N`` critic updates on ``reals [N, B, P, T, V, C]`` / ``real_labels [N, B]``, then one
     generator update. ``latents [N + 1, B, T, Z]`` and ``fake_labels [N + 1, B]`` (row ``i`` for update ``i``,
-    the last for the generator's): drawn from ``factors`` and uniformly over ``num_classes`` when None.
+    the last for the generator's): drawn from ``factors`` and uniformly over ``num_classes`` when None, on the
+    device of ``factors`` and ``real_labels`` (the models' device).
     Returns the last critic loss and the generator loss (detached; each before the update it drives)."""
     opt_g, opt_d = optimizers
     n, b = real_labels.shape
     if latents is None:
         latents = torch.stack([sample_latents(factors, b) for _ in range(n + 1)])
-        fake_labels = torch.randint(0, num_classes, (n + 1, b))
+        fake_labels = torch.randint(0, num_classes, (n + 1, b), device=real_labels.device)
     generator.train()
     critic.train()
     for i in range(n):
