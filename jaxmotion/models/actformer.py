@@ -153,7 +153,7 @@ def _init_block(key: jax.Array, config: GeneratorConfig) -> EncoderLayerParams:
                               norm1=_init_norm(k_n1, d), norm2=_init_norm(k_n2, d))
 
 
-def _trunc_normal(key: jax.Array, shape: tuple[int, ...]) -> jax.Array:
+def trunc_normal(key: jax.Array, shape: tuple[int, ...]) -> jax.Array:
     """The code's ``trunc_normal_(std=0.02)``: cut at ±2 absolute, i.e. ±100 standard deviations."""
     return 0.02 * jax.random.truncated_normal(key, -100.0, 100.0, shape)
 
@@ -163,12 +163,12 @@ def _init_positions(key: jax.Array, config: GeneratorConfig) -> jax.Array | None
     if config.positions == "fixed":
         return None
     if not config.tokens_per_person:
-        return _trunc_normal(key, (steps, d))
+        return trunc_normal(key, (steps, d))
     if config.positions == "independent":
-        return _trunc_normal(key, (steps, persons, d))
+        return trunc_normal(key, (steps, persons, d))
     k_t, k_p = jax.random.split(key)
-    temporal = jnp.broadcast_to(_trunc_normal(k_t, (steps, 1, d // 2)), (steps, persons, d // 2))
-    person = jnp.broadcast_to(_trunc_normal(k_p, (1, persons, d - d // 2)), (steps, persons, d - d // 2))
+    temporal = jnp.broadcast_to(trunc_normal(k_t, (steps, 1, d // 2)), (steps, persons, d // 2))
+    person = jnp.broadcast_to(trunc_normal(k_p, (1, persons, d - d // 2)), (steps, persons, d - d // 2))
     return jnp.concatenate([temporal, person], -1)
 
 
@@ -223,14 +223,7 @@ def _normalized(params: GeneratorParams, spectral: GeneratorSpectral | None, tra
     def sn(weight, state):
         return spectral_normalize(weight, state, train=train)
 
-    block_sn = jax.vmap(sn)  # over the stacked blocks
-    b = params.blocks
-    qkv, s_qkv = block_sn(b.self_attn.in_proj_weight, spectral.blocks.qkv)
-    proj, s_proj = block_sn(b.self_attn.out_proj.weight, spectral.blocks.proj)
-    fc1, s_fc1 = block_sn(b.linear1.weight, spectral.blocks.fc1)
-    fc2, s_fc2 = block_sn(b.linear2.weight, spectral.blocks.fc2)
-    blocks = b._replace(self_attn=b.self_attn._replace(in_proj_weight=qkv, out_proj=b.self_attn.out_proj._replace(
-        weight=proj)), linear1=b.linear1._replace(weight=fc1), linear2=b.linear2._replace(weight=fc2))
+    blocks, s_blocks = jax.vmap(lambda b, s: normalized_block(b, s, train))(params.blocks, spectral.blocks)
     w_in, s_in = sn(params.input_embedding.weight, spectral.input_embedding)
     gain, s_norm = sn(params.final_norm.weight, spectral.final_norm)
     w_head, s_head = sn(params.head.weight, spectral.head)
@@ -239,7 +232,20 @@ def _normalized(params: GeneratorParams, spectral: GeneratorSpectral | None, tra
                              head=params.head._replace(weight=w_head))
     if not train:
         return params, spectral
-    return params, GeneratorSpectral(s_in, BlockSpectral(s_qkv, s_proj, s_fc1, s_fc2), s_norm, s_head)
+    return params, GeneratorSpectral(s_in, s_blocks, s_norm, s_head)
+
+
+def normalized_block(block: EncoderLayerParams, spectral: BlockSpectral, train: bool
+                     ) -> tuple[EncoderLayerParams, BlockSpectral]:
+    """A Transformer block with its qkv, attention-output and MLP weights divided by their top singular values,
+    and the power-iteration vectors (moved when ``train``)."""
+    a = block.self_attn
+    (qkv, s_qkv), (proj, s_proj), (fc1, s_fc1), (fc2, s_fc2) = (
+        spectral_normalize(w, s, train=train)
+        for w, s in zip((a.in_proj_weight, a.out_proj.weight, block.linear1.weight, block.linear2.weight), spectral))
+    block = block._replace(self_attn=a._replace(in_proj_weight=qkv, out_proj=a.out_proj._replace(weight=proj)),
+                           linear1=block.linear1._replace(weight=fc1), linear2=block.linear2._replace(weight=fc2))
+    return block, BlockSpectral(s_qkv, s_proj, s_fc1, s_fc2)
 
 
 def _block(p: EncoderLayerParams, x: jax.Array, heads: int) -> jax.Array:

@@ -50,7 +50,7 @@ Which parts follow CSGN (as ActFormer's paper describes its use of it), which ar
     fixed. ``temporal="transformer"`` uses temporal kernel 1
     in every graph layer, and after each of the three upsampling stages one pre-LN T-Former block (the
     ActFormer generator's: GELU MLP of ``mlp_ratio · w``, LayerNorm eps 1e-6, ``heads`` heads) over the T
-    frames of each node's feature sequence, a learnable ``[T, w]`` temporal positional encoding (truncated
+    frames of each node's feature sequence, a learnable ``[T, w]`` temporal positional encoding (ActFormer's truncated
     normal, std 0.02) added before it; the nodes of a stage share the block;
   - conditional BatchNorm: per channel over (batch, frames, nodes), PyTorch's statistics (momentum 0.1, eps
     1e-5, unbiased running variance; :func:`jaxmotion.nn.core.batch_norm`), no affine of its own; the class
@@ -86,7 +86,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.geometry.skeletons import NTU25, topological_order
-from jaxmotion.models.actformer import BlockSpectral, normalize_output
+from jaxmotion.models.actformer import BlockSpectral, normalize_output, normalized_block, trunc_normal
 from jaxmotion.models.actformer_critic import GraphConvParams, init_graph_conv, graph_conv
 from jaxmotion.nn.core import BatchNormParams, BatchNormStats, LinearParams, batch_norm, init_linear, linear
 from jaxmotion.nn.gp_prior import CHANNELS
@@ -229,10 +229,6 @@ def _stage_graphs(graphs: CSGNGraphs) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return graphs.up3, graphs.up2, graphs.up1
 
 
-def _trunc_normal(key: jax.Array, shape: tuple[int, ...]) -> jax.Array:
-    return 0.02 * jax.random.truncated_normal(key, -2.0, 2.0, shape)
-
-
 def _init_cbn(num_classes: int, width: int) -> tuple[CondBatchNormParams, BatchNormStats]:
     zeros = jnp.zeros((num_classes, width), jnp.float32)
     return CondBatchNormParams(zeros, zeros.copy()), BatchNormStats(jnp.zeros((width,)), jnp.ones((width,)))
@@ -253,7 +249,7 @@ def init_generator(key: jax.Array, config: CSGNConfig) -> tuple[CSGNParams, CSGN
         transformer = c.temporal == "transformer"
         stages.append(StageParams(
             conv=init_graph_conv(k_conv, up, c_in, c_out, c.kernel, False), norm=norm,
-            positions=_trunc_normal(k_pos, (c.frames, c_out)) if transformer else None,
+            positions=trunc_normal(k_pos, (c.frames, c_out)) if transformer else None,
             block=init_encoder_layer(k_block, c_out, int(c_out * c.mlp_ratio)) if transformer else None))
         stats.append(stat)
     params = CSGNParams(
@@ -303,13 +299,8 @@ def _normalized(params: CSGNParams, spectral: CSGNSpectral | None, train: bool
         stage = stage._replace(conv=stage.conv._replace(weight=w_conv))
         s_block = None
         if stage.block is not None:
-            (qkv, s_qkv), (proj, s_proj), (fc1, s_fc1), (fc2, s_fc2) = (
-                sn(w, s) for w, s in zip(_block_weights(stage.block), state.block))
-            b = stage.block
-            stage = stage._replace(block=b._replace(
-                self_attn=b.self_attn._replace(in_proj_weight=qkv, out_proj=b.self_attn.out_proj._replace(weight=proj)),
-                linear1=b.linear1._replace(weight=fc1), linear2=b.linear2._replace(weight=fc2)))
-            s_block = BlockSpectral(s_qkv, s_proj, s_fc1, s_fc2)
+            block, s_block = normalized_block(stage.block, state.block, train)
+            stage = stage._replace(block=block)
         stages.append(stage)
         states.append(StageSpectral(s_conv, s_block))
     params = params._replace(input=params.input._replace(weight=w_in), stages=tuple(stages),
