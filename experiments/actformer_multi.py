@@ -25,6 +25,10 @@ Table: rows Real, then each method's measured row followed by its "(reported)" r
 person counts run. To stay within about 40 minutes on 2 cores, the cpu profile trains the NTU-2P models for
 :data:`NTU2P_CPU_STEPS` steps and GTA Combat's 2-person split only, for :data:`COMBAT_CPU_STEPS` steps (a
 two-person step costs twice a one-person one, a five-person one five times); smoke and paper run all four.
+
+Pictures (the paper's Figure 5): ``ntu-2p-generated.png``, key poses of three generated scenes for each of
+``picture_actions`` (punching, hugging, handshaking), and ``combat-<k>p-generated.png``, three generated fights,
+from ActFormer's models, in the run's folder.
 """
 
 from __future__ import annotations
@@ -41,7 +45,9 @@ from jaxmotion.evaluation.tables import (
     actformer_table,
     interleave_reported,
     run_tables,
+    slug,
 )
+from jaxmotion.pipelines.pictures import generation_grid
 from jaxmotion.train.a2m import A2MTraining
 from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
 
@@ -90,6 +96,8 @@ class ActFormerMultiConfig(experiment.ProfileConfig):
     combat: tuple[TableDataset, ...]  # one per person count
     combat_actformer: tuple[ActFormerTraining, ...]  # the model of each
     combat_csgn: tuple[ActFormerTraining, ...]
+    picture_actions: tuple[int, ...] = (0, 5, 8)  # NTU-2P's rows in its picture: punching, hugging, handshaking
+    picture_samples: int = 3  # generated scenes per row (combat: one row, its only class)
 
     def __post_init__(self):
         for name in ("combat_actformer", "combat_csgn"):
@@ -111,8 +119,25 @@ class ActFormerMultiConfig(experiment.ProfileConfig):
                          for p in persons))
 
 
+def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
+    """Figure 5's pictures: key poses of ActFormer's generated scenes, ``<workdir>/<dataset>-generated.png``."""
+
+    models = {config.ntu2p.label: config.ntu2p_actformer,
+              **{table.label: training for table, training in zip(config.combat, config.combat_actformer)}}
+
+    def draw(table: TableDataset, samplers, train) -> None:
+        actions = config.picture_actions if train.num_classes > 1 else (0,)
+        path = ctx.workdir / f"{slug(table.label)}-generated.png"
+        generation_grid(samplers["ActFormer"], ctx.key(f"pictures {table.label}"), train.skeleton,
+                        train.class_names, train.fps, actions, path, per_action=config.picture_samples,
+                        duration=models[table.label].generator.frames, still=True)
+
+    return draw
+
+
 def run(config: ActFormerMultiConfig, ctx: experiment.RunContext):
-    common = dict(workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    common = dict(workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh,
+                  pictures=_pictures(config, ctx))
     rows = run_tables([config.ntu2p], lambda table: {"Action2Motion": config.ntu2p_a2m, "CSGN": config.ntu2p_csgn,
                                                      "ActFormer": config.ntu2p_actformer},
                       columns=ACTFORMER_COLUMNS, **common)

@@ -36,7 +36,7 @@ from jaxmotion.evaluation.tables import (
     table_dataset,
     table_evaluator,
 )
-from jaxmotion.pipelines.actor import generation_grid
+from jaxmotion.pipelines.pictures import generation_grid
 from jaxmotion.train.actor import ActorTraining, uestc_training
 
 # Paper Table 2 (UESTC), means only: the runner's cells are numbers.
@@ -73,7 +73,7 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
     samplers = {"ACTOR": config.training.sampler(params, train.skeleton)}
     rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, recognizer, config.table.protocol,
                                     mesh=ctx.mesh))
-    generated = generation_grid(params, config.training.model, ctx.key("pictures"), train.skeleton,
+    generated = generation_grid(samplers["ACTOR"], ctx.key("pictures"), train.skeleton,
                                 train.class_names, train.fps, min(config.picture_actions, train.num_classes),
                                 ctx.workdir / "generated.gif")
     ctx.export(generated)

@@ -11,12 +11,13 @@ from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.metrics.smoothness import mean_acceleration
 from jaxmotion.models.actor import ActorConfig, init_actor
 from jaxmotion.pipelines.actor import (
+    actor_sampler,
     denoise,
     generate_motions,
-    generation_grid,
     interpolate,
     noisy,
 )
+from jaxmotion.pipelines.pictures import generation_grid
 
 WINDOW = 24
 MODEL = ActorConfig(num_classes=2, width=16, ff=32, layers=1, heads=2)
@@ -122,14 +123,18 @@ def test_noisy_perturbs_rotations_only_on_demand_and_raises_jitter(setup):
     np.testing.assert_array_equal(rough["joints"][0, n:], np.broadcast_to(rough["joints"][0, n - 1], (WINDOW - n, 24, 3)))
 
 
-def test_generation_grid_writes_a_gif(setup, tmp_path):
+def test_generation_grid_draws_the_samplers_motions(setup, tmp_path):
     _, params, _, _ = setup
     path = tmp_path / "generated.gif"
-    data = generation_grid(params, MODEL, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2,
-                           duration=4)
+    sampler = actor_sampler(params, MODEL, SMPL24)
+    data = generation_grid(sampler, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2, duration=4)
     assert path.stat().st_size > 0 and path.read_bytes()[:3] == b"GIF"
     np.testing.assert_array_equal(data.actions, [0, 0, 1, 1])
     np.testing.assert_array_equal(data.modes, [0, 1, 0, 1])
+    direct = sampler(jax.random.key(5), np.array([0, 0, 1, 1]), np.full(4, 4))
+    np.testing.assert_array_equal(data.joints, np.asarray(direct["joints"]).reshape(-1, 24, 3))
+    with pytest.raises(ValueError, match="actions"):
+        generation_grid(sampler, jax.random.key(5), SMPL24, ("a", "b"), 20.0, [2], path)
 
 
 def test_frame_noise_reaches_the_denoised_output_only_through_the_latent(setup):

@@ -115,3 +115,5 @@ def test_multi_person_table_scores_the_pair_and_its_aggregated_persons(tmp_path,
         assert rows["Real"][column]["mean"] < min(rows[name][column]["mean"] for name in ("CSGN", "ActFormer")), column
     workdir = tmp_path / "actformer_multi" / "smoke" / "seed-0"
     assert (workdir / "combat-5p" / "actformer").is_dir()
+    for picture in ("ntu-2p", *(f"combat-{p}p" for p in range(2, 6))):  # Figure 5's
+        assert (workdir / f"{picture}-generated.png").read_bytes()[:4] == b"\x89PNG", picture

@@ -262,33 +262,43 @@ def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CP
     return TableDataset(label, data, None if name is None else evaluator_spec(name, profile), protocol)
 
 
+#: What :func:`run_table` hands its ``pictures`` hook: the dataset, its rows' trained samplers, its train split.
+PicturesHook = Callable[[TableDataset, Mapping[str, Sampler], MotionDataset], None]
+
+
 def run_table(rows: Mapping[str, Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
               eval_key: jax.Array, data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS,
-              mesh: Mesh | None = None) -> dict[str, dict[str, np.ndarray]]:
+              mesh: Mesh | None = None, pictures: PicturesHook | None = None) -> dict[str, dict[str, np.ndarray]]:
     """A table on one dataset: load it, train every row (:func:`fit_rows` in ``workdir``), score them
     together (:func:`score_rows`); rows in the paper's ``columns``, the Real row last. ``mesh``: train and
-    evaluate data-parallel on it (None: one device)."""
+    evaluate data-parallel on it (None: one device). ``pictures``: called once the rows are scored, to draw
+    what they generate."""
     real = real_sets(table.data, data_root)
     recognizer = table_evaluator(table, real, data_root)  # before any row trains
     person = (None if table.person_evaluator is None
               else trained_recognizer(table.person_evaluator, data_root=data_root)[0].reading(real["train"].skeleton))
     samplers = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
-    return paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
-                                    person_recognizer=person), columns)
+    scored = paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
+                                      person_recognizer=person), columns)
+    if pictures is not None:
+        pictures(table, samplers, real["train"])
+    return scored
 
 
 def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Recipe]], *,
                workdir: str | Path, key: Callable[[str], jax.Array], data_root: str | None = None,
-               columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None) -> dict[str, dict[str, Any]]:
+               columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None,
+               pictures: PicturesHook | None = None) -> dict[str, dict[str, Any]]:
     """A table over several datasets, side by side: on each, the rows ``rows_of(dataset)`` train in
-    ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``."""
+    ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``
+    (``pictures``: :func:`run_table`'s hook, on each)."""
     labels = [table.label for table in tables]
     if len({slug(label) for label in labels}) != len(labels):
         raise ValueError(f"tables: labels must give distinct folder names, got {labels}")
     return side_by_side({table.label: run_table(rows_of(table), table, workdir=Path(workdir) / slug(table.label),
                                                 train_key=key(f"train {table.label}"),
                                                 eval_key=key(f"eval {table.label}"), data_root=data_root,
-                                                columns=columns, mesh=mesh)
+                                                columns=columns, mesh=mesh, pictures=pictures)
                          for table in tables})
 
 

@@ -1,4 +1,5 @@
-"""ACTOR put to use (Petrovich et al. 2021, §4.2, §4.4, Figure 5): generation, denoising, interpolation.
+"""ACTOR put to use (Petrovich et al. 2021, §4.2, §4.4): generation, denoising, interpolation (Figure 5's
+picture: :func:`jaxmotion.pipelines.pictures.generation_grid` on :func:`actor_sampler`).
 
 * :func:`generate_motions`: z ~ N(0, I) decoded with an action for a duration of its own (variable-length
   generation), returned as a packed :class:`~jaxmotion.data.motion.MotionDataset` without padding.
@@ -8,7 +9,6 @@
   posterior means of two real motions.
 * :func:`noisy`: Gaussian perturbation of the joint rotations, so a denoising experiment can measure the
   jitter (:func:`jaxmotion.metrics.smoothness.mean_acceleration`) before and after.
-* :func:`generation_grid`: Figure 5's picture, ``per_action`` generated motions of each action, as a GIF.
 
 Motions in and out are the library's batch dict (as :func:`jaxmotion.data.pipeline.gather_windows`
 returns): ``joints [B, T, J, 3]`` (forward kinematics of ``rotations`` on the skeleton's rest offsets,
@@ -26,10 +26,8 @@ d model width (the size of z), S interpolation steps, K classes.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 from collections.abc import Sequence
-from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -44,7 +42,6 @@ from jaxmotion.data.pipeline import (
     map_in_chunks,
     window_frames,
 )
-from jaxmotion.data.preview import render_grid
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import Skeleton
@@ -348,28 +345,6 @@ def noisy(key: jax.Array, motions: dict, sigma: float, skeleton: Skeleton, *, tr
                    jnp.asarray(motions["lengths"], jnp.int32), jnp.float32(sigma), jnp.float32(translation_sigma),
                    skeleton=skeleton, padding=padding)
     return {**{k: np.asarray(v) for k, v in motions.items()}, **jax.tree.map(np.asarray, out)}
-
-
-def generation_grid(params: AnyActorParams, config: ActorConfig, key: jax.Array, skeleton: Skeleton,
-                    class_names: Sequence[str], fps: float, actions: int | Sequence[int], path: str | Path,
-                    per_action: int = 3, duration: int = 60) -> MotionDataset:
-    """Save Figure 5's picture: a GIF grid, one row per action (``actions``: a list of class indices, or a
-    count meaning the first ones), ``per_action`` generated ``duration``-frame motions per row, rendered by
-    :func:`~jaxmotion.data.preview.render_grid`. Returns the generated motions (mode k = sample k)."""
-    actions = list(range(actions)) if isinstance(actions, int) else [int(a) for a in actions]
-    if not actions:
-        raise ValueError("actions: expected at least one action (a count >= 1 or a non-empty list)")
-    if per_action < 1 or duration < 1:
-        raise ValueError(f"per_action, duration: expected >= 1, got {per_action}, {duration}")
-    labels = np.repeat(np.asarray(actions, np.int32), per_action)
-    generated = generate_motions(params, config, key, labels, np.full(labels.shape, duration, np.int32), skeleton,
-                                 class_names=class_names, fps=fps)
-    samples = tuple(f"sample {k + 1}" for k in range(per_action))
-    data = dataclasses.replace(generated, name="generated", modes=np.arange(len(labels), dtype=np.int32) % per_action,
-                               names=tuple(f"{class_names[a]} {k % per_action + 1}" for k, a in enumerate(labels)),
-                               mode_names=(samples,) * len(class_names))
-    render_grid(data, actions, str(path))
-    return data
 
 
 # --- training sets ---------------------------------------------------------------------------------
