@@ -15,6 +15,7 @@ from jaxmotion.models.actformer_critic import (
     critic,
     graph_conv,
     init_critic,
+    time_windows,
 )
 from jaxmotion.nn.core import count_parameters
 
@@ -51,6 +52,22 @@ def test_node_specific_graph_conv_equals_a_direct_loop():
         expected[:, t] = np.einsum("kwv,bvck->bwc", a, f)
     assert out.shape == (2, frames, 3, c)
     np.testing.assert_allclose(out, expected, rtol=1e-4, atol=1e-4)
+
+
+@pytest.mark.parametrize("kernel, stride, padding", [(5, 1, 2), (4, 2, 1), (3, 2, 0)])
+def test_frame_windows_turn_conv4_into_a_matmul(kernel, stride, padding):
+    """conv4 spans every node: as a matmul over the frame windows it equals the 2-D convolution the code runs."""
+    rng = np.random.default_rng(4)
+    x = rng.normal(size=(2, 11, 3, 5)).astype(np.float32)  # [B, T, W, C]
+    w = rng.normal(size=(7, 5, 3, kernel)).astype(np.float32)  # [O, C, W, kernel]
+    expected = jax.lax.conv_general_dilated(jnp.transpose(x, (0, 3, 2, 1)), w, (1, stride), [(0, 0), (padding, padding)],
+                                            dimension_numbers=("NCHW", "OIHW", "NCHW"),
+                                            precision=jax.lax.Precision.HIGHEST)[:, :, 0]  # [B, O, T']
+    got = jnp.einsum("btjwc,ocwj->bot", time_windows(jnp.asarray(x), kernel, stride, padding), w,
+                     precision=jax.lax.Precision.HIGHEST)
+    np.testing.assert_allclose(np.asarray(got), np.asarray(expected), rtol=1e-5, atol=1e-5)
+    with pytest.raises(ValueError, match="too few"):
+        time_windows(jnp.asarray(x[:, :2]), kernel + 3, stride, 0)
 
 
 def test_scores_read_persons_stacked_on_channels_and_project_the_label():

@@ -12,7 +12,7 @@ them) and, with ``motion_flow``, its frame differences (zero at frame 0) as C mo
   conditioning, ``E`` an ``Embedding(K, 512)``).
 
 Each graph layer is node-specific (the code's ``use_graph_conv: false``): input node ``v`` has its own temporal
-convolution into ``c·k`` channels (a grouped convolution, one group per node), and output node ``w`` sums
+convolution into ``c·k`` channels (the code's grouped convolution, one group per node), and output node ``w`` sums
 ``A[k, w, v] · f_{k,v}(x_v)`` over the hop kernels ``k`` (self, 1-hop) and input nodes; ``A`` and the coarse node
 sets come from :mod:`jaxmotion.nn.graph_coarsening` (the caller passes them as :class:`CriticGraphs`).
 Spectral normalisation on every layer, the embedding included (each grouped convolution is one matrix
@@ -186,19 +186,31 @@ def _normalized(params: CriticParams, spectral: CriticSpectral | None, train: bo
     return params, (moved if train else spectral)
 
 
+def time_windows(x: jax.Array, kernel: int, stride: int, padding: int) -> jax.Array:
+    """``x [B, T, ...]`` -> ``[B, T', kernel, ...]``: the frames each output frame of a strided temporal
+    convolution reads (zero-padded by ``padding`` at both ends), so the convolution becomes one matmul over
+    (kernel, channels). XLA's CPU convolutions with one group per node, and its NCHW ones, run several times
+    slower than these matmuls."""
+    frames = x.shape[1]
+    out = (frames + 2 * padding - kernel) // stride + 1
+    if out < 1:
+        raise ValueError(f"x: {frames} frames are too few for a temporal kernel of {kernel} with padding {padding}")
+    padded = jnp.pad(x, [(0, 0), (padding, padding)] + [(0, 0)] * (x.ndim - 2))
+    return jnp.stack([padded[:, i:i + stride * (out - 1) + 1:stride] for i in range(kernel)], axis=2)
+
+
 def graph_conv(p: GraphConvParams, adjacency: np.ndarray, x: jax.Array, *, stride: int, padding: int) -> jax.Array:
     """``x [B, T, V, C_in]`` -> ``[B, T', W, c]``: node ``v``'s own temporal convolution into ``c·k`` channels,
     then ``sum_k sum_v A[k, w, v] f_{k, v}(x_v)``."""
-    hops, out_nodes, nodes = adjacency.shape
-    batch, _, _, c_in = x.shape
+    hops, _, nodes = adjacency.shape
+    c_in, kernel = p.weight.shape[1:]
     c = p.weight.shape[0] // (nodes * hops)
-    lhs = jnp.transpose(x, (0, 2, 3, 1)).reshape(batch, nodes * c_in, -1)  # node-major channels
-    y = jax.lax.conv_general_dilated(lhs, p.weight, (stride,), [(padding, padding)], feature_group_count=nodes,
-                                     dimension_numbers=("NCH", "OIH", "NCH"), precision=_HIGHEST)
+    weight = p.weight.reshape(nodes, c * hops, c_in, kernel)  # group v's filters
+    y = jnp.einsum("btjvi,voij->btvo", time_windows(x, kernel, stride, padding), weight, precision=_HIGHEST)
     if p.bias is not None:
-        y = y + p.bias[:, None]
-    y = y.reshape(batch, nodes, c, hops, -1)  # channel v·(c·k) + c_i·k + k_i, as the code views it
-    return jnp.einsum("kwv,bvckt->btwc", jnp.asarray(adjacency, jnp.float32), y, precision=_HIGHEST)
+        y = y + p.bias.reshape(nodes, c * hops)
+    y = y.reshape(*y.shape[:3], c, hops)  # channel v·(c·k) + c_i·k + k_i, as the code views it
+    return jnp.einsum("kwv,btvck->btwc", jnp.asarray(adjacency, jnp.float32), y, precision=_HIGHEST)
 
 
 def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spectral: CriticSpectral | None,
@@ -232,10 +244,9 @@ def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spe
     for layer, adjacency in ((p.down1, graphs.down1), (p.down2, graphs.down2), (p.down3, graphs.down3)):
         x = act(graph_conv(layer, adjacency, x, stride=2, padding=pad))
     # conv4: a convolution over (nodes, frames) whose kernel spans every node: [B, T, W, C] -> [B, T', 512]
-    lhs = jnp.transpose(x, (0, 3, 2, 1))  # [B, C, W, T]
-    y = jax.lax.conv_general_dilated(lhs, p.conv4_weight, (2, 2), [(0, 0), (pad, pad)],
-                                     dimension_numbers=("NCHW", "OIHW", "NCHW"), precision=_HIGHEST)
-    h = act(y + p.conv4_bias[:, None, None]).sum(axis=(2, 3))  # [B, 512] (pooled: [B·P, 512])
+    y = jnp.einsum("btjwc,ocwj->bto", time_windows(x, config.time_kernel, 2, pad), p.conv4_weight,
+                   precision=_HIGHEST)
+    h = act(y + p.conv4_bias).sum(axis=1)  # [B, 512] (pooled: [B·P, 512])
     if pooled:
         h = pool_persons(config.pooling, h.reshape(-1, persons, h.shape[-1]), p.attention)
     score = linear(p.conv5, h)[:, 0] + jnp.sum(p.embedding[labels] * h, -1)
