@@ -40,6 +40,7 @@ Axes: B batch, P persons, T frames, V joints, C channels per joint, Z latent cha
 from __future__ import annotations
 
 import dataclasses
+import functools
 from typing import Literal, NamedTuple
 
 import jax
@@ -219,10 +220,7 @@ def _normalized(params: GeneratorParams, spectral: GeneratorSpectral | None, tra
     """The parameters with every spectrally normalised weight divided by its sigma, and the moved vectors."""
     if spectral is None:
         return params, None
-
-    def sn(weight, state):
-        return spectral_normalize(weight, state, train=train)
-
+    sn = functools.partial(spectral_normalize, train=train)
     blocks, s_blocks = jax.vmap(lambda b, s: normalized_block(b, s, train))(params.blocks, spectral.blocks)
     w_in, s_in = sn(params.input_embedding.weight, spectral.input_embedding)
     gain, s_norm = sn(params.final_norm.weight, spectral.final_norm)

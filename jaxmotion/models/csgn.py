@@ -287,10 +287,7 @@ def _normalized(params: CSGNParams, spectral: CSGNSpectral | None, train: bool
     """The parameters with every normalised weight divided by its sigma, and the (in training, moved) vectors."""
     if spectral is None:
         return params, None
-
-    def sn(weight, state):
-        return spectral_normalize(weight, state, train=train)
-
+    sn = functools.partial(spectral_normalize, train=train)
     w_in, s_in = sn(params.input.weight, spectral.input)
     w_out, s_out = sn(params.output.weight, spectral.output)
     stages, states = [], []
