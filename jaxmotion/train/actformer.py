@@ -256,8 +256,9 @@ def actformer_table_training(dataset: str, profile: str) -> ActFormerTraining:
 
     paper: the authors' configs (``config/generator/*``: width 8 per joint, depth 2, 8 heads, critic base 32,
     batch 64, :data:`PAPER_EPOCHS` epochs of the stand-in's train split; for real data set ``loop.steps`` to
-    500 epochs of it). cpu: the same generator, a critic of base 8 and batches of 16, 2 000 generator steps (the
-    full critic costs about 10 s a step on 2 cores). smoke: a few steps of a tiny model."""
+    500 epochs of it). cpu: the same generator, a critic of base 8 and batches of 16, 2 000 generator steps (at
+    the paper's critic and batch a step takes about 3 s on 2 cores, 1.7 h for 2 000; ``benchmarks/RESULTS.md``).
+    smoke: a few steps of a tiny model."""
     if dataset not in ACTFORMER_DATA:
         raise ValueError(f"dataset: expected one of {sorted(ACTFORMER_DATA)}, got {dataset!r}")
     variant = synthetic.VARIANTS[dataset]
