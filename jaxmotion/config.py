@@ -80,7 +80,7 @@ class FrozenMap(Mapping):
 def check_seed(value: Any, where: str) -> int:
     """``value`` if it is a seed (an integer from 0 to :data:`MAX_SEED`), else a :class:`ConfigError`."""
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
-        raise _mismatch(where, f"a seed (an integer from 0 to {MAX_SEED}, 2**32 - 1)", value)
+        raise _mismatch(where, f"a seed from 0 to {MAX_SEED} (2**32 - 1)", value)
     return value
 
 
@@ -404,21 +404,21 @@ def _check(value: Any, tp: Any, where: str, *, encode: bool) -> Any:
         return _check_tuple(value, tp, where, encode=encode)
     if tp is bool:
         if not isinstance(value, bool):
-            raise _mismatch(where, "true or false (bool)", value)
+            raise _mismatch(where, "true or false", value)
         return value
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise _mismatch(where, "an integer (int)", value)
+            raise _mismatch(where, "an integer", value)
         return value
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise _mismatch(where, "a number (float)", value)
+            raise _mismatch(where, "a number", value)
         if not math.isfinite(value):  # JSON has no NaN or infinity; a config holding one would not resume
-            raise _mismatch(where, "a finite number (float)", value)
+            raise _mismatch(where, "a finite number", value)
         return float(value)
     if tp is str:
         if not isinstance(value, str):
-            raise _mismatch(where, "a string (str)", value)
+            raise _mismatch(where, "a string", value)
         return value
     raise ConfigError(f"{where or 'config'}: unsupported config field type {_type_name(tp)}")
 

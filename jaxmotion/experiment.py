@@ -24,6 +24,8 @@ import argparse
 import contextlib
 import dataclasses
 import functools
+import json
+import shlex
 import sys
 import zlib
 from collections.abc import Callable, Mapping, Sequence
@@ -47,7 +49,6 @@ from jaxmotion.files import LOCK_NAME, InUseError, folder_lock, read_json, write
 from jaxmotion.train.mesh import data_mesh, initialize_distributed, is_primary
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
-MAX_SEED = 2**32 - 1  # jax.random.key takes a 32-bit seed on a default (x32) install
 
 
 class RunConflictError(RuntimeError):
@@ -67,8 +68,7 @@ class RunContext:
     devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
 
     def __post_init__(self):
-        if not 0 <= self.seed <= MAX_SEED:  # jax.random.key(2**32) is key(0): two seeds, one run
-            raise ValueError(f"seed: expected 0 to {MAX_SEED} (2**32 - 1), got {self.seed}")
+        cfglib.check_seed(self.seed, "seed")  # jax.random.key(2**32) is key(0): two seeds, one run
 
     @functools.cached_property
     def mesh(self) -> Mesh | None:
@@ -279,19 +279,23 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     ``claims``: what the paper claims from this table (checked on every run, written with the table)."""
     check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
-    initialize_distributed()  # joins a multi-process run when its environment variables are set
-    if args.devices is not None and not 1 <= args.devices <= jax.device_count():
-        raise SystemExit(f"--devices: expected 1 to {jax.device_count()} (the devices JAX sees), got {args.devices}")
+    # Everything the command line says is checked before --print-config returns, so a printed config is one
+    # that runs; only what depends on the machine (its devices, the --out folder) is checked after.
     try:
         config = cfglib.apply_overrides(getattr(config_cls, args.profile)(), args.set)
-    except (cfglib.ConfigError, ValueError) as err:
+        text = cfglib.to_json(config)  # a config that cannot be recorded never trains
+        seeds = _seeds(args.seed, args.seeds)
+        formats = _parse_formats(args.export)
+        if args.devices is not None and args.devices < 1:
+            raise cfglib.ConfigError(f"--devices: expected 1 or more devices, got {args.devices}")
+    except ValueError as err:  # ConfigError, and a profile constructor's own checks
         raise SystemExit(f"{name}: {err}") from None
     if args.print_config:
-        print(cfglib.to_json(config))
+        print(text)
         return {}
-    if args.seed is not None and args.seeds:
-        raise SystemExit("--seed and --seeds: give one of them (--seeds 0,1,2 runs several)")
-    seeds = _parse_seeds(args.seeds) if args.seeds else [0 if args.seed is None else _check_seed(args.seed, "--seed")]
+    initialize_distributed()  # joins a multi-process run when its environment variables are set
+    if args.devices is not None and args.devices > jax.device_count():
+        raise SystemExit(f"--devices: expected 1 to {jax.device_count()} (the devices JAX sees), got {args.devices}")
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise SystemExit(f"--out: {out} is a file; expected a folder for the results (it is made if missing)")
@@ -300,7 +304,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
-                                      export_formats=_parse_formats(args.export), devices=args.devices)
+                                      export_formats=formats, devices=args.devices)
         except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
     if len(seeds) == 1:
@@ -334,7 +338,9 @@ def check_config_class(config_cls: type) -> None:
 def _parser(name: str, config_cls: type, description: str | None) -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog=f"python -m experiments.{name}", description=description,
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                epilog="config fields for --set:\n  " + "\n  ".join(cfglib.field_paths(config_cls)))
+                                epilog="config fields for --set (<key>: a key of a mapping the profile's config "
+                                       "holds; a group of fields can also be set whole as JSON, an optional one to "
+                                       "null):\n  " + "\n  ".join(cfglib.field_paths(config_cls)))
     p.add_argument("--profile", choices=cfglib.PROFILES, default="cpu",
                    help="smoke: seconds (tests); cpu: minutes on a laptop CPU; paper: the paper's settings (GPU)")
     p.add_argument("--seed", type=int, default=None, help="the one seed every PRNG key derives from (default 0)")
@@ -342,7 +348,7 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
     p.add_argument("--out", default="results", help="results root (default: results)")
     p.add_argument("--data-root", help="folder with the real dataset files (default: the embedded dataset)")
     p.add_argument("--set", action="extend", nargs="+", default=[], metavar="FIELD=VALUE",
-                   help="override config fields, e.g. --set train.steps=500 model.layers=4")
+                   help=f"override config fields, e.g. --set {_set_examples(config_cls)}".replace("%", "%%"))
     p.add_argument("--devices", type=int, default=None, metavar="N",
                    help="data-parallel over N devices (default: all of them; 1: a single device)")
     p.add_argument("--export", default="", metavar="FORMATS",
@@ -352,29 +358,36 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
     return p
 
 
+def _set_examples(config_cls: type) -> str:
+    """Two overrides for ``--help`` that this experiment accepts: the first two fields of its default (cpu)
+    profile's config, set to their values there."""
+    leaves = list(cfglib.flatten(cfglib.to_dict(config_cls.cpu())).items())[:2]
+    return " ".join(shlex.quote(f"{path}={value if isinstance(value, str) else json.dumps(value)}")
+                    for path, value in leaves)
+
+
 def _parse_formats(text: str) -> tuple[str, ...]:
     formats = tuple(f.strip() for f in text.split(",") if f.strip())
     unknown = [f for f in formats if f not in EXPORT_FORMATS]
     if unknown:
-        raise SystemExit(f"--export: unknown formats {unknown}; expected a comma-separated subset of "
-                         f"{','.join(EXPORT_FORMATS)}")
+        raise cfglib.ConfigError(f"--export: unknown formats {unknown}; expected a comma-separated subset of "
+                                 f"{','.join(EXPORT_FORMATS)}")
     return formats
 
 
-def _check_seed(seed: int, flag: str) -> int:
-    if not 0 <= seed <= MAX_SEED:
-        raise SystemExit(f"{flag}: expected a seed from 0 to {MAX_SEED} (2**32 - 1), got {seed}")
-    return seed
-
-
-def _parse_seeds(text: str) -> list[int]:
+def _seeds(seed: int | None, seeds: str | None) -> list[int]:
+    """The seeds to run: ``--seeds 0,1,2``, or ``--seed N`` (default 0); each a valid seed."""
+    if seed is not None and seeds:
+        raise cfglib.ConfigError("--seed and --seeds: give one of them (--seeds 0,1,2 runs several)")
+    if not seeds:
+        return [cfglib.check_seed(0 if seed is None else seed, "--seed")]
     try:
-        seeds = [int(s) for s in text.split(",") if s.strip()]
+        values = [int(s) for s in seeds.split(",") if s.strip()]
     except ValueError:
-        raise SystemExit(f"--seeds expects comma-separated integers, got {text!r}") from None
-    if not seeds or len(set(seeds)) != len(seeds):
-        raise SystemExit(f"--seeds expects distinct comma-separated integers, got {text!r}")
-    return [_check_seed(s, "--seeds") for s in seeds]
+        raise cfglib.ConfigError(f"--seeds: expected comma-separated integers, got {seeds!r}") from None
+    if not values or len(set(values)) != len(values):
+        raise cfglib.ConfigError(f"--seeds: expected distinct comma-separated integers, got {seeds!r}")
+    return [cfglib.check_seed(s, "--seeds") for s in values]
 
 
 def _seed_list(seeds: Sequence[int]) -> str:

@@ -108,6 +108,23 @@ def test_print_config_shows_resolved_overrides(tmp_path, capsys):
     assert not (tmp_path / "toy").exists()
 
 
+def test_print_config_accepts_every_run_flag_and_checks_only_what_the_command_says(tmp_path, capsys):
+    # the machine's devices and the --out folder are the run's business: a command printed here runs elsewhere
+    (tmp_path / "file").write_text("")
+    _run_toy(tmp_path / "file", "--seeds", "0,1", "--export", "npz,bvh", "--devices", "100000", "--print-config")
+    assert json.loads(capsys.readouterr().out)["train"]["steps"] == 40
+
+
+def test_help_examples_are_real_overrides_of_the_experiment(capsys):
+    with pytest.raises(SystemExit):
+        toy_experiment.main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    example = text.split("override config fields, e.g. --set ")[1].split(" --")[0]
+    assert example == "train.steps=400 train.log_every=50"  # the cpu profile's first two fields
+    toy_experiment.main(["--set", *example.split(), "--print-config"])  # the default profile's values
+    assert "config fields for --set" in text and " hidden " in text
+
+
 @pytest.mark.slow
 def test_killed_run_resumes_bitwise_equal(tmp_path):
     """SIGKILL a training subprocess between checkpoints, rerun the same command, compare to an unbroken run."""
@@ -201,8 +218,12 @@ def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
     assert "resuming in another environment" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("args, message", [(["--devices", "0"], "--devices: expected 1 to"),
-                                           (["--export", "fbx"], "--export: unknown formats")])
+@pytest.mark.parametrize("args, message", [(["--devices", "0"], "--devices: expected 1 or more devices, got 0"),
+                                           (["--devices", "0", "--print-config"], "--devices: expected 1 or more"),
+                                           (["--devices", "100000"], "--devices: expected 1 to"),
+                                           (["--export", "fbx"], "--export: unknown formats"),
+                                           (["--export", "fbx", "--print-config"], "--export: unknown formats"),
+                                           (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct")])
 def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):
     with pytest.raises(SystemExit, match=message):
         _run_toy(tmp_path, *args)
