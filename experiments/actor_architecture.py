@@ -2,7 +2,8 @@
 and NTU-13.
 
 Paper: Petrovich, Black, Varol, ICCV 2021, §4.2 "Architecture design" and Table 2. Every row is the headline
-model with one change of :class:`~jaxmotion.models.actor.ActorConfig` (FACTS.md §3 "Baselines"):
+model with one change of :class:`~jaxmotion.models.actor.ActorConfig` (the authors' baselines, in ACTOR's
+``src/models/architectures/``):
 ``architecture="fc"`` (a fully connected VAE over fixed 60-frame clips), ``"gru"`` (GRU encoder and decoder),
 the Transformer VAE itself, (a) ``"autoregressive"`` (a causal Transformer decoder, teacher-forced in
 training, frame by frame at generation), (b) ``distribution_tokens=False`` (μ and Σ from the averaged

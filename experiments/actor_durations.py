@@ -2,9 +2,9 @@
 
 Paper: Petrovich, Black, Varol, ICCV 2021. Two models: one trained on fixed 60-frame clips, and the same
 model fine-tuned on clips of random length U[60, min(n, 100)] (training from scratch on variable lengths
-freezes the motions; FACTS.md §3: +100 epochs). Each generates at durations 40 to 120 frames (step 5) and
-is scored with the ACTOR protocol at that duration (real windows of the same length), the evaluator being
-the 60-frame UESTC recogniser: accuracy and FID per duration.
+freezes the motions; the authors fine-tune for 100 more epochs). Each generates at durations 40 to 120
+frames (step 5) and is scored with the ACTOR protocol at that duration (real windows of the same length),
+the evaluator being the 60-frame UESTC recogniser: accuracy and FID per duration.
 
     python -m experiments.actor_durations                    # cpu profile on the embedded synth-uestc
     python -m experiments.actor_durations --profile paper --data-root data/uestc --set table.data.name=uestc table.evaluator.dataset=uestc

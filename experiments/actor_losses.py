@@ -32,7 +32,7 @@ What differs from the paper, and why:
 * Datasets, recognisers and sizes: the embedded stand-ins with their own recognisers
   (``jaxmotion.evaluation.tables.STAND_INS``); absolute numbers are not comparable with the paper's,
   the Real row computed here is the reference. paper() trains for the main runs' epochs (NTU-13 2000,
-  UESTC 1000; FACTS.md §3 also lists shorter ablation runs, 1000/500 epochs, not attributed to a table).
+  UESTC 1000; the authors also list shorter ablation runs, 1000/500 epochs, not attributed to a table).
 
 Reported numbers (Table 1, means; the text extraction of our copy scrambles the table's cells, which were
 reassigned to rows by column order and checked against Table 2, whose Real and Transformer rows repeat

@@ -22,11 +22,11 @@ What differs from the paper, and why:
 * ACTOR: L_J stands in for L_V (L_P + L_J; L_V needs an SMPL model); paper() trains the main runs' epochs
   (NTU-13 2000, HumanAct12 5000 at batch 20).
 * Action2Motion: the joint-coordinate ("xyz") VAE, not the Lie-algebra one behind the paper's row (not
-  implemented); with the released xyz configuration (λ_KL 1e-4, no time counter), FACTS' 50 000 iterations
-  at batch 128 (the released xyz opt.txt files say 300 000 for NTU-13, 500 000 for HumanAct12), on
-  canonical 60-frame windows of the 24 SMPL joints (see ``jaxmotion.train.a2m``). The paper's recognisers
-  read 18 VIBE joints on NTU-13 and 24 SMPL joints on HumanAct12; the embedded recognisers read the 24
-  joints of both stand-ins.
+  implemented); with the released xyz configuration (λ_KL 1e-4, no time counter), the Action2Motion
+  paper's 50 000 iterations at batch 128 (the released xyz opt.txt files say 300 000 for NTU-13, 500 000
+  for HumanAct12), on canonical 60-frame windows of the 24 SMPL joints (see ``jaxmotion.train.a2m``). The
+  paper's recognisers read 18 VIBE joints on NTU-13 and 24 SMPL joints on HumanAct12; the embedded
+  recognisers read the 24 joints of both stand-ins.
 * The embedded stand-ins and their recognisers: absolute numbers are not comparable with the paper's.
 
 Reported numbers (Table 3, means): every cell of the table; the extracted text keeps its rows and columns

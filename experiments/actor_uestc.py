@@ -1,9 +1,10 @@
 """ACTOR on UESTC: the paper's headline result (the full model's row of Tables 1 and 2).
 
 Paper: Petrovich, Black, Varol, "Action-Conditioned 3D Human Motion Synthesis with Transformer VAE",
-ICCV 2021. Protocol (FACTS.md §3): 20 repetitions; each keeps up to 3 000 shuffled real clips and
-generates one 60-frame motion per clip with its label; features from the UESTC recogniser (ST-GCN on
-rot6d); FID against the training set (FID_tr) and the test set (FID_test); mean ± 95% CI.
+ICCV 2021. Protocol (the authors' code, ACTOR's ``src/evaluate/stgcn_eval.py``): 20 repetitions; each keeps
+up to 3 000 shuffled real clips and generates one 60-frame motion per clip with its label; features from the
+UESTC recogniser (ST-GCN on rot6d); FID against the training set (FID_tr) and the test set (FID_test);
+mean ± 95% CI.
 
     python -m experiments.actor_uestc                   # cpu profile on the embedded synth-uestc
     python -m experiments.actor_uestc --profile paper --data-root data/uestc --set table.data.name=uestc table.evaluator.dataset=uestc

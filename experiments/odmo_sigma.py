@@ -6,7 +6,7 @@ scored as in Tables 1-2 (mode-preserving sampling; accuracy, FID, diversity, mul
 ``σ²=<value>``; the Real row last.
 
 **Which σ.** The authors' code passes its ``sigma`` (0.05 in every released run) as the prior's *standard
-deviation*, while the paper writes σ² = 0.05 (FACTS §7). The sweep's values go to
+deviation*, while the paper writes σ² = 0.05. The sweep's values go to
 :attr:`~jaxmotion.losses.odmo.ODMOLossConfig.prior_scale` under the loss's ``prior`` reading: the code's
 (``"std"``) by default, the paper's with ``--set prior=variance``.
 
