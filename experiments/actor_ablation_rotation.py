@@ -8,7 +8,7 @@ before scoring, as in the paper. Our copy of the paper has the finding but not t
 there is no reported column.
 
     python -m experiments.actor_ablation_rotation                   # cpu profile, embedded synth-uestc
-    python -m experiments.actor_ablation_rotation --set "values=[quaternion,rot6d]"
+    python -m experiments.actor_ablation_rotation --set 'values=["quaternion","rot6d"]'
 """
 
 from __future__ import annotations

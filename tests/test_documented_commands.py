@@ -1,6 +1,8 @@
-"""Every ``python -m experiments.<name> ...`` command in the README and docs parses: run with ``--print-config``
-in-process (the config resolved, every flag checked, nothing trained), so a documented command cannot rot."""
+"""Every ``python -m experiments.<name> ...`` command in the README, the docs and the experiments' docstrings
+(their ``--help``) parses: run with ``--print-config`` in-process (the config resolved, every flag checked,
+nothing trained), so a documented command cannot rot."""
 
+import ast
 import importlib
 import re
 import shlex
@@ -10,6 +12,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 DOCUMENTS = [REPO / "README.md", *sorted((REPO / "docs").glob("**/*.md"))]
+EXPERIMENTS = sorted((REPO / "experiments").glob("[!_]*.py"))
 FENCE = re.compile(r"^[ \t]*```[^\n]*\n(.*?)^[ \t]*```", re.S | re.M)
 INLINE = re.compile(r"`([^`]+)`")
 SHELL_OPERATORS = {"&&", "||", "|", ";", "&", ">", ">>", "<", "2>", "2>&1"}
@@ -41,13 +44,20 @@ def experiment_argv(line: str) -> tuple[str, list[str]] | None:
     return None
 
 
+def docstring_lines(source: str) -> list[str]:
+    """The lines of a module's docstring, continued with a trailing ``\\``."""
+    return (ast.get_docstring(ast.parse(source)) or "").replace("\\\n", " ").splitlines()
+
+
 def documented_commands() -> list[tuple[str, str, list[str]]]:
     found = []
-    for doc in DOCUMENTS:
-        for line in command_lines(doc.read_text()):
+    sources = [(doc, command_lines(doc.read_text())) for doc in DOCUMENTS]
+    sources += [(module, docstring_lines(module.read_text())) for module in EXPERIMENTS]
+    for path, lines in sources:
+        for line in lines:
             command = experiment_argv(line)
             if command is not None:
-                found.append((doc.name, *command))
+                found.append((path.name, *command))
     return found
 
 
@@ -64,9 +74,11 @@ def test_commands_are_found_in_fenced_blocks_inline_spans_and_across_line_breaks
                                            ("a", ["--set", "x.y=1"])]
 
 
-def test_the_readme_real_data_command_is_among_those_checked():
+def test_the_readme_real_data_command_and_every_experiments_usage_are_among_those_checked():
     assert ("README.md", "actor_uestc", ["--profile", "paper", "--data-root", "data/uestc", "--set",
                                          "table.data.name=uestc", "table.evaluator.dataset=uestc"]) in COMMANDS
+    documented = {name for doc, name, _ in COMMANDS if doc.endswith(".py")}
+    assert documented == {module.stem for module in EXPERIMENTS}
 
 
 @pytest.mark.parametrize("doc, name, argv", COMMANDS, ids=[f"{d}:{n} {' '.join(a)}" for d, n, a in COMMANDS])
