@@ -11,7 +11,7 @@ from jaxmotion.data.motion import MotionDataset
 
 EMBEDDED_PREFIX = "synth-"
 
-#: The paper datasets' sizes, as the papers give them (FACTS.md §1): ``(classes, training clips)``. Their
+#: The paper datasets' sizes, as the papers give them: ``(classes, training clips)``. Their
 #: embedded stand-ins have the same; trainers size the paper profiles (epochs -> steps) from them.
 PAPER_SIZES = {"NTU-13": (13, 3900), "UESTC": (40, 10_650), "HumanAct12": (12, 1200), "MoCap": (7, 970)}
 
@@ -35,9 +35,10 @@ def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: s
     """Load a dataset split as a packed ``MotionDataset`` (index it, iterate it, batch it).
 
     ``synth-*`` names are the embedded procedural datasets, generated from ``seed`` on first use and
-    cached. Other names are the real datasets, read from ``data_root`` in their original formats
-    (FACTS.md §1); the seed does not apply to them. ``count``: only the first ``count`` sequences of
-    the split (embedded data: generated directly, class- and mode-balanced, not cached; for smoke runs).
+    cached. Other names are the real datasets, read from ``data_root`` in their original formats (as the
+    authors' loaders read them); the seed does not apply to them. ``count``: only the first ``count``
+    sequences of the split (embedded data: generated directly, class- and mode-balanced, not cached; for
+    smoke runs).
     """
     if count is not None and count < 1:
         raise ValueError(f"count: expected a positive number of sequences or None, got {count}")

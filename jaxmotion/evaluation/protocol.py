@@ -1,6 +1,6 @@
 """The evaluation protocol: a generator's metric row, and the "Real" row, over R repetitions.
 
-Every paper scores a generator the same way, with different numbers (FACTS.md §3-§6): draw a set of
+Every paper scores a generator the same way, with different numbers (each paper's evaluation code): draw a set of
 real motions, generate motions for the same action labels, pass both through the recogniser, and compute
 accuracy, FID against the real features, diversity and multimodality; repeat R times with fresh draws
 and report mean ± 95% CI. The numbers are data (:class:`ProtocolConfig`, part of each experiment's config):

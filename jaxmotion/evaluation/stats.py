@@ -3,7 +3,7 @@
 The interval is the two-sided Student-t interval of the mean, ``t(0.975, n-1) · s / sqrt(n)`` with ``s``
 the sample standard deviation (ddof = 1). With the 10-20 repetitions of the papers' protocols this is
 within a few percent of the ``1.96 · s / sqrt(n)`` normal interval; with 3 seeds the t factor (4.30)
-matters. The papers' own code differs (FACTS.md §4, §6, §7): ACTOR prints ``1.96 · variance`` (ddof 0)
+matters. The papers' own evaluation code differs: ACTOR prints ``1.96 · variance`` (ddof 0)
 and ODMO ``z · s / sqrt(n-1)`` (``statistics.NormalDist``: s with ddof 1, exact z); ``summarize(values, convention="actor" | "odmo")`` reproduces those
 for comparison with the published numbers. Tables use the t-interval unless an experiment asks otherwise.
 """

@@ -1,4 +1,4 @@
-"""ACTOR's training losses (paper §3.2; FACTS.md §3 "Losses and training").
+"""ACTOR's training losses (paper §3.2; the authors' ``src/models/tools/losses.py``).
 
 On ACTOR's motion tensor ``x [B, T, J + 1, C]`` (joint rotations in a representation with C channels,
 then the translation row ``[tx, ty, tz, 0, ...]``) with ``mask [B, T]``:

@@ -1,7 +1,7 @@
 """ACTOR: the action-conditioned Transformer VAE (Petrovich et al. 2021) and its Table 2 baselines, as pure
 functions.
 
-The model on one screen (FACTS.md §3; paper §3.1):
+The model on one screen (ACTOR's ``src/models/architectures/transformer.py``; paper §3.1):
 
 * **Input** ``x [B, T, J, C]``: per frame the 24 joint rotations in ``rep`` (C = 6 for rot6d) and one extra
   "joint" holding the root translation relative to frame 0 (:func:`to_features`),
@@ -19,9 +19,9 @@ Table 2 ablations of the Transformer are switches of :class:`ActorConfig`: ``dis
 (μ, logvar from two linear layers on the mean encoder output, ACTOR's ``average_encoder``),
 ``bias_token=False`` (the one-hot action concatenated to z, then a linear layer: ``zandtime``).
 
-Table 2's other rows are ``ActorConfig.architecture`` (ACTOR's ``gru.py``, ``fc.py``, ``autotrans.py``;
-FACTS.md §3 "Baselines"). Below, ``a`` is the one-hot action [K] and ``τ_t = t / (len − 1)`` the time channel
-(0 on padded frames), both repeated per frame:
+Table 2's other rows are ``ActorConfig.architecture`` (ACTOR's ``gru.py``, ``fc.py``, ``autotrans.py``).
+Below, ``a`` is the one-hot action [K] and ``τ_t = t / (len − 1)`` the time channel (0 on padded frames),
+both repeated per frame:
 
 * ``"gru"``: encoder ``Linear(concat(x_t, a, τ_t)) -> d``, a ``layers``-deep GRU(d), its output at the last
   real frame ``len − 1``, two linear layers to μ / logvar; decoder ``Linear(concat(z, a, τ_t)) -> d``, a GRU,
@@ -613,7 +613,7 @@ def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, action
 
 def to_features(rotations: jax.Array, translation: jax.Array, rep: str = "rot6d") -> jax.Array:
     """ACTOR's input tensor ``[B, T, J + 1, C]``: each joint's rotation in ``rep``, then one extra "joint"
-    holding the translation relative to frame 0, zero-padded to C channels (FACTS.md §2;
+    holding the translation relative to frame 0, zero-padded to C channels (ACTOR's ``rot6d`` layout;
     :func:`jaxmotion.geometry.representations.rotation_features`).
 
     ``rotations [B, T, J, 3]`` axis-angle, ``translation [B, T, 3]``; C = 6 (rot6d), 4, 3 or 9 (matrix).

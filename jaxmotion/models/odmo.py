@@ -3,7 +3,7 @@ trajectory first, then the whole motion.
 
 Sources: the paper (P-OD §3.2, Suppl. Table S2) and the authors' code (OD ``src/modules/models.py``:
 ``LMPEncoder``, ``TrajGenerator``, ``MotionGenerator``; ``ensemble.py``; ``initializer.py``;
-``param/param_*.py``), FACTS.md §6. Axes: ``B`` batch, ``T`` frames, ``J`` joints, ``F = J·3`` pose
+``param/param_*.py``). Axes: ``B`` batch, ``T`` frames, ``J`` joints, ``F = J·3`` pose
 features (joint-major: ``x0 y0 z0 x1 ...``; joint 0 is the root), ``C`` classes, ``Z`` code size, ``H``
 hidden sizes.
 

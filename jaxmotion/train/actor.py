@@ -111,7 +111,7 @@ def train_actor(data: MotionDataset, training: ActorTraining, key: jax.Array, wo
 
 UESTC_CLASSES, _UESTC_CLIPS = PAPER_SIZES["UESTC"]
 UESTC_EPOCH = _UESTC_CLIPS // 20  # steps per epoch at batch 20
-#: FACTS.md §3: the paper's epochs of its main runs per dataset (its ablations' shorter runs are not attributed)
+#: The paper's epochs of its main runs per dataset (ACTOR's README; its ablations' shorter runs are not attributed)
 PAPER_EPOCHS = {"NTU-13": 2000, "UESTC": 1000, "HumanAct12": 5000}
 
 

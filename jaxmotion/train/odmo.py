@@ -1,5 +1,5 @@
 """Training ODMO (:mod:`jaxmotion.models.odmo`) as the authors' ``Trainer`` does (OD ``src/modules/trainer.py``,
-``train_odmo.py``, ``dataloader_samplestart_rotate2xz_pairwise.py``; FACTS.md §6).
+``train_odmo.py``, ``dataloader_samplestart_rotate2xz_pairwise.py``).
 
 :class:`ODMOTraining` is the recipe: model, loss (:class:`~jaxmotion.losses.odmo.ODMOLossConfig`), Adam
 1e-3 with the gradient norm clipped at 1, batches of 512 **pairs** (:class:`~jaxmotion.data.pipeline.PairSpec`:

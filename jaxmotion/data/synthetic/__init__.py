@@ -1,8 +1,8 @@
 """The embedded procedural motion dataset: action-labelled human motion on the SMPL-24 tree.
 
 No motion-capture data can be downloaded here, so every experiment trains and evaluates by default on
-motions generated from how people move (``shared/reference/MOTION_FACTS.md``): joint-angle curves per
-action phase with minimum-jerk timing, coordinated limbs, clinical joint limits, feet planted while
+motions generated from how people move (published anthropometry and biomechanics): joint-angle curves
+per action phase with minimum-jerk timing, coordinated limbs, clinical joint limits, feet planted while
 they bear weight, ballistic flight. Variants stand in for the paper datasets, with their class names:
 
 >>> from jaxmotion.data import synthetic
