@@ -85,15 +85,15 @@ def check_seed(value: Any, where: str) -> int:
 
 
 def field_paths(config: Any, prefix: str = "") -> list[str]:
-    """Every overridable leaf of a config, as dotted paths (``train.steps``).
+    """Every overridable leaf of a config, as dotted paths (``train.steps``), under ``prefix`` if given.
 
     Of a config *class*: every declared leaf, the fields of optional groups and of every union member
     included, a mapping's entries as ``<key>``. Of a config *instance*: the leaves it holds (the fields of the
     union member it holds, its mappings' keys; an unset optional group or an empty mapping as one path, set
     whole)."""
     if _is_dataclass_type(config):
-        return _declared_paths(config, prefix.rstrip("."))
-    return list(flatten(to_dict(config), prefix.rstrip(".")))
+        return _declared_paths(config, prefix)
+    return list(flatten(to_dict(config), prefix))
 
 
 def flatten(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -141,7 +141,7 @@ def apply_overrides(config: Any, overrides: Iterable[str]) -> Any:
             raise ConfigError(f"override {item!r} must look like field.path=value")
         raw = raw.strip()
         config = _edit(config, type(config), path.split("."), "",
-                       lambda held, tp, where: _decode_text(raw, held, tp, where))
+                       lambda held, tp, where, raw=raw: _decode_text(raw, held, tp, where))
     return config
 
 
@@ -155,9 +155,9 @@ def replace_paths(config: Any, changes: Mapping[str, Any]) -> Any:
     return config
 
 
-def diff(a: Mapping[str, Any], b: Mapping[str, Any], prefix: str = "") -> list[str]:
+def diff(a: Mapping[str, Any], b: Mapping[str, Any]) -> list[str]:
     """Dotted paths whose values differ between two ``to_dict`` outputs (for resume checks), sorted."""
-    fa, fb = flatten(a, prefix), flatten(b, prefix)
+    fa, fb = flatten(a), flatten(b)
     return [f"{path}: {fa.get(path, '<missing>')!r} -> {fb.get(path, '<missing>')!r}"
             for path in sorted(fa.keys() | fb.keys()) if fa.get(path, "<missing>") != fb.get(path, "<missing>")]
 

@@ -338,6 +338,17 @@ def test_seeds_are_range_checked_by_name_and_by_type_instead_of_wrapping():
         cfglib.to_dict(dataclasses.replace(_table(), evaluator=Evaluator("x", Loop(seed=2**32))))
 
 
+    @dataclasses.dataclass(frozen=True)
+    class Seeds:
+        data_seed: int | None = None  # a seed by its name, optional
+        seeds: int = -1  # not a seed: the rule is the name `seed` or `*_seed`
+
+    assert cfglib.apply_overrides(Seeds(), ["data_seed=5", "seeds=-2"]) == Seeds(5, -2)
+    with pytest.raises(cfglib.ConfigError, match=r"^data_seed: expected a seed from 0 to 4294967295 \(2\*\*32 - 1\), "
+                                                 r"got 4294967296$"):
+        cfglib.apply_overrides(Seeds(), ["data_seed=4294967296"])
+
+
 @given(st.recursive(st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False) | st.text(max_size=5),
                     lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=3), inner, max_size=3),
                     max_leaves=8))

@@ -115,6 +115,21 @@ def test_print_config_accepts_every_run_flag_and_checks_only_what_the_command_sa
     assert json.loads(capsys.readouterr().out)["train"]["steps"] == 40
 
 
+@pytest.mark.parametrize("args, message", [
+    (["--set", "train.steps=[1]"], "toy: train.steps: expected an integer, got [1]"),
+    (["--set", 'train={"steps": "x"}'], "toy: train.steps: expected an integer, got 'x'"),
+    (["--set", "train=3"], "toy: 'train' is a group of fields; set one of: train.steps, "),
+    (["--set", "train.steps.x=3"], "toy: unknown config field 'train.steps.x': 'train.steps' is a single value (int)"),
+    (["--set", "train.log_every=7"], "toy: train: LoopConfig.checkpoint_every (20) must be a non-negative multiple"),
+    (["--set", "hidden"], "toy: override 'hidden' must look like field.path=value"),
+    (["--seeds", "a,b"], "toy: --seeds: expected comma-separated integers, got 'a,b'"),
+])
+def test_every_bad_command_line_value_is_a_one_line_exit(args, message):
+    with pytest.raises(SystemExit) as exit_:
+        toy_experiment.main(["--profile", "smoke", *args, "--print-config"])
+    assert str(exit_.value).startswith(message) and "\n" not in str(exit_.value)
+
+
 def test_help_examples_are_real_overrides_of_the_experiment(capsys):
     with pytest.raises(SystemExit):
         toy_experiment.main(["--help"])
