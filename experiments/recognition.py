@@ -2,11 +2,11 @@
 
 ACTOR, ODMO and Neural Marionette score generated motions with a recogniser trained on the real data
 (Action2Motion's GRU for HumanAct12, NTU-13 and CMU; ACTOR's ST-GCN and ODMO's GRU for UESTC). The
-released Action2Motion weights (``shared/a2m``) only read the real datasets, so the embedded datasets get
-their own evaluators, trained here with the same architectures and cached for every later evaluation
-(``jaxmotion.evaluation.recognizers``). This experiment trains all of them (or ``--set only=[...]``) and
-reports held-out accuracy; the target for the ``cpu`` profile is >= 95% on the ACTOR/ODMO variants, >= 70% on
-synth-ntu1p (94 classes with close pairs) and >= 90% on synth-ntu2p.
+released Action2Motion weights (the authors' checkpoints, not in this repository) only read the real
+datasets, so the embedded datasets get their own evaluators, trained here with the same architectures and
+cached for every later evaluation (``jaxmotion.evaluation.recognizers``). This experiment trains all of
+them (or ``--set only=[...]``) and reports held-out accuracy; the target for the ``cpu`` profile is >= 95%
+on the ACTOR/ODMO variants, >= 70% on synth-ntu1p (94 classes with close pairs) and >= 90% on synth-ntu2p.
 
     python -m experiments.recognition                    # cpu profile, all nine evaluators
     python -m experiments.recognition --set only='["synth-uestc/stgcn"]'
