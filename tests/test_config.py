@@ -202,6 +202,21 @@ def test_overrides_descend_into_mappings_optional_groups_and_the_union_member_he
     assert whole.rows == {"x": {"y": Training(lr=0.5)}} and whole.weights == {}
 
 
+def test_a_mapping_of_dataclass_unions_holds_each_key_as_the_member_its_fields_fit():
+    @dataclasses.dataclass(frozen=True)
+    class Models:
+        by_name: Mapping[str, Inner | Other]
+
+    cfg = Models(cfglib.FrozenMap({"gru": Other(2), "mlp": Inner()}))
+    assert cfglib.from_dict(Models, cfglib.to_dict(cfg)) == cfg
+    assert cfglib.field_paths(Models) == ["by_name.<key>.steps", "by_name.<key>.lr", "by_name.<key>.dims",
+                                          "by_name.<key>.depth"]
+    edited = cfglib.apply_overrides(cfg, ["by_name.gru.depth=5", "by_name.mlp.dims=[1]"])
+    assert edited.by_name == {"gru": Other(5), "mlp": Inner(dims=(1,))}
+    with pytest.raises(cfglib.ConfigError, match="unknown config field 'by_name.mlp.depth'; .* Other has it"):
+        cfglib.apply_overrides(cfg, ["by_name.mlp.depth=5"])
+
+
 def test_an_unset_optional_group_is_set_whole_and_unset_with_null():
     cfg = Table()
     with pytest.raises(cfglib.ConfigError, match=r"'evaluator.dataset': the group 'evaluator' is None .* "
