@@ -343,9 +343,11 @@ def _decode_text(raw: str, held: Any, tp: Any, where: str) -> Any:
     """Command-line text for the field ``where`` of type ``tp`` (holding ``held``), as its Python value."""
     value, json_error = _parse_raw(raw, tp)
     if _is_group(tp) and not (isinstance(value, Mapping) or value is None and _optional(tp) is not None):
-        paths = _declared_paths(tp, where) if held is None else list(flatten(_encode(held, tp, where), where))
-        raise ConfigError(f"{where!r} is a group of fields; set one of: {', '.join(paths)}; or give the whole "
-                          f"group as a JSON mapping ({_type_name(tp)}), got {raw!r}"
+        paths = _declared_paths(tp, where) if held is None else list(flatten({where: _encode(held, tp, where)}))
+        one_of = [p for p in paths if p != where]  # an empty mapping has no fields to name
+        raise ConfigError(f"{where!r} is a group of fields; "
+                          + (f"set one of: {', '.join(one_of)}; or " if one_of else "")
+                          + f"give the whole group as a JSON mapping ({_type_name(tp)}), got {raw!r}"
                           + (f" (not JSON: {json_error})" if json_error else ""))
     try:
         return _decode(value, tp, where)
