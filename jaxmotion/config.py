@@ -15,13 +15,16 @@ Anything else is rejected when the config is first converted, so a config that c
 
 * **Paths.** A field path names fields and mapping keys joined by dots: ``rows.ntu13.actformer.loop.steps``.
   An override descends into the value the config holds: the member of a union it is, the entries of a
-  mapping it has. A group (a dataclass, a mapping, an optional group) can also be set whole from JSON:
+  mapping it has (a key it lacks is an error, not a new entry: a typo never adds a row). A group (a
+  dataclass, a mapping, an optional group) can also be set whole from JSON, which replaces it:
   ``--set 'table.evaluator={"dataset": "uestc", ...}'`` (fields left out take their defaults) or
-  ``--set table.evaluator=null`` where the group is optional.
+  ``--set table.evaluator=null`` where the group is optional. :func:`field_paths` of a class lists every
+  declared leaf (a mapping's keys as ``<key>``), of an instance the leaves it holds.
 * **Mappings** are held as :class:`FrozenMap`: immutable, in insertion order, equal to any mapping with the
-  same items (as ``dict`` is) and hashable, so configs holding them stay hashable and comparable. Their JSON
-  form is a plain object in the same order. Keys are strings usable in a path: not empty, without ``.`` or
-  ``=`` and without surrounding spaces.
+  same items (as ``dict`` is) and hashable, so configs holding them stay hashable and comparable
+  (``types.MappingProxyType`` is not hashable; a ``dict`` is not immutable). Their JSON form is a plain
+  object in the same order. Keys are strings usable in a path: not empty, without ``.`` or ``=`` and
+  without surrounding spaces.
 * **Seeds.** An ``int`` field named ``seed`` or ending in ``_seed``, or declared as :data:`Seed`, takes 0 to
   :data:`MAX_SEED` only: ``jax.random.key`` would wrap a larger one modulo 2**32 and two seeds would make one
   run.
