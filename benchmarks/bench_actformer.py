@@ -110,16 +110,9 @@ from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.models.actformer import GeneratorConfig, generate
 from jaxmotion.models.actformer_critic import critic
-from jaxmotion.pipelines.actformer import fit_of, generate_motions
-from jaxmotion.train.actformer import (
-    ActFormerTraining,
-    actformer_state,
-    actformer_step,
-    critic_graphs,
-    latent_factors,
-    real_batches,
-    sample_latents,
-)
+from jaxmotion.pipelines.actformer import ActFormerGenerator, generate_motions
+from jaxmotion.train.actformer import ActFormerTraining, actformer_state, actformer_step, critic_graphs, real_batches
+from jaxmotion.models.actformer_prior import latent_factors, sample_latents
 from jaxmotion.train.loop import LoopConfig
 
 try:  # the PyTorch peer: pip install -e ".[bench]"
@@ -195,12 +188,12 @@ def build_peers(recipe: ActFormerTraining, graphs, params: dict, buffers: dict):
 def step_draws(recipe: ActFormerTraining, key: jax.Array) -> tuple[np.ndarray, np.ndarray]:
     """What ``actformer_step`` draws from its key: latents ``[N + 1, B, T, Z]`` and fake labels ``[N + 1, B]``,
     row ``i`` for critic update ``i``, the last for the generator update."""
-    factors = latent_factors(recipe)
+    factors = latent_factors(recipe.model)
     latents, labels = [], []
     for k in jax.random.split(key, recipe.n_critic + 1):
         k_z, k_y = jax.random.split(k)
         labels.append(jax.random.randint(k_y, (recipe.batch_size,), 0, CONFIG.num_classes))
-        latents.append(sample_latents(recipe, factors, k_z, recipe.batch_size))
+        latents.append(sample_latents(recipe.model, factors, k_z, recipe.batch_size))
     return np.array(jnp.stack(latents)), np.array(jnp.stack(labels))
 
 
@@ -326,7 +319,7 @@ def bench_train(data, graphs, parents, batch_size: int, repeats: int, parity: bo
             check = check_train_parity(data, graphs, parents, k_init, k_loop)
         generator, critic_t, optimizers = build_peers(recipe, graphs, state.params, state.buffers)  # before donation
         reals, labels = (to_torch(a) for a in real_batches(recipe, batch, parents))
-        factors = to_torch(latent_factors(recipe))
+        factors = to_torch(latent_factors(recipe.model))
 
         def peer_iteration():
             peer.train_iteration(generator, critic_t, optimizers, reals, labels, factors=factors,
@@ -342,7 +335,7 @@ def warm_state(recipe: ActFormerTraining, graphs):
     """The initial state with the generator's vectors moved by ``WARM_PASSES`` training-mode passes."""
     state = actformer_state(recipe, graphs, jax.random.key(0))
     params, spectral = state.params["generator"], state.buffers["generator"]
-    z = sample_latents(recipe, latent_factors(recipe), jax.random.key(1), 2)
+    z = sample_latents(recipe.model, latent_factors(recipe.model), jax.random.key(1), 2)
     move = jax.jit(lambda spectral: generate(CONFIG, params, spectral, z, jnp.zeros(2, jnp.int32), train=True)[1])
     for _ in range(WARM_PASSES):
         spectral = move(spectral)
@@ -355,7 +348,7 @@ def bench_generate(data, graphs, per_class: int, repeats: int) -> tuple[dict, di
     state = warm_state(recipe, graphs)
     params, spectral = state.params["generator"], state.buffers["generator"]
     labels = jnp.repeat(jnp.arange(CONFIG.num_classes, dtype=jnp.int32), per_class)
-    z = jax.block_until_ready(sample_latents(recipe, latent_factors(recipe), jax.random.key(3), len(labels)))
+    z = jax.block_until_ready(sample_latents(recipe.model, latent_factors(recipe.model), jax.random.key(3), len(labels)))
 
     def sample(params, spectral, z, labels):
         return generate(CONFIG, params, spectral, z, labels)[0]
@@ -377,11 +370,12 @@ def bench_generate(data, graphs, per_class: int, repeats: int) -> tuple[dict, di
     direct, peer_result = time_pair(lambda: jax.block_until_ready(compiled(params, spectral, z, labels)), theirs,
                                     repeats)
 
-    fitted, actions, key = fit_of(state, data), np.asarray(labels), jax.random.key(4)
+    fitted = ActFormerGenerator.trained_on(recipe.model, state.params["generator"], state.buffers["generator"], data)
+    actions, key = np.asarray(labels), jax.random.key(4)
     tick = time.perf_counter()  # jits on its first call: trace + compile + one run
-    generate_motions(fitted, recipe, key, actions, data.skeleton)
+    generate_motions(fitted, key, actions)
     first_s = time.perf_counter() - tick
-    pipeline, _ = time_pair(lambda: generate_motions(fitted, recipe, key, actions, data.skeleton), None, repeats)
+    pipeline, _ = time_pair(lambda: generate_motions(fitted, key, actions), None, repeats)
     return ({**direct, "peer": peer_result, "parity": check, "compile_s": compile_s},
             {**pipeline, "peer": peer_result, "parity": None, "compile_s": first_s})
 

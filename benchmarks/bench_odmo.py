@@ -172,7 +172,7 @@ def check_train_parity(data, k_init: jax.Array, k_loop: jax.Array) -> dict:
     recipe = training(CHECK_BATCH, TeacherForcing(start=CHECK_RATE, end=CHECK_RATE))
     state = odmo_state(recipe, k_init)
     batch = pair_batch(data, recipe, jax.random.key(7))
-    model = build_peer(state.params, state.batch_stats)
+    model = build_peer(state.params, state.buffers)
     optimizer = peer.make_optimizer(model, recipe.learning_rate)
     step_fn = odmo_step(recipe)
     step = jax.jit(lambda state, batch, loop_key: step_fn(state, batch, jax.random.fold_in(loop_key, state.step)))
@@ -187,7 +187,7 @@ def check_train_parity(data, k_init: jax.Array, k_loop: jax.Array) -> dict:
                                        teacher_mask=torch.from_numpy(mask), clip_norm=recipe.clip_norm))
         losses.append((ours, theirs, relative(ours, theirs)))
         if stats_diff is None:  # after the first step: the statistics of the initial parameters
-            stats_diff = max_stats_difference(state.batch_stats, model)
+            stats_diff = max_stats_difference(state.buffers, model)
     return {"initial": losses[0], "updated": losses[1], "stats": stats_diff, "forced": forced}
 
 
@@ -212,7 +212,7 @@ def bench_train(data, pairs: int, repeats: int, parity: bool) -> dict:
     if peer is not None:
         if parity:
             check = check_train_parity(data, k_init, k_loop)
-        model = build_peer(state.params, state.batch_stats)  # the same initial weights, copied before donation
+        model = build_peer(state.params, state.buffers)  # the same initial weights, copied before donation
         optimizer = peer.make_optimizer(model, recipe.learning_rate)
         batch_t = to_torch(batch)
         rate = float(recipe.teacher_forcing.rate(0))
@@ -247,7 +247,7 @@ def bench_generate(per_class: int, repeats: int) -> tuple[dict, dict]:
 
     theirs, check = None, None
     if peer is not None:
-        model = build_peer(params, state.batch_stats)
+        model = build_peer(params, state.buffers)
         check = check_generate_parity(params, model, codes, actions, ends)
         inputs_t = [torch.from_numpy(np.array(a)) for a in (codes, actions, ends)]
 
@@ -331,7 +331,7 @@ def bench_breakdown(data, pairs: int, repeats: int) -> list[tuple[str, dict, dic
 
     recipe = training(pairs)
     state = odmo_state(recipe, jax.random.key(0))
-    params, stats = state.params, state.batch_stats
+    params, stats = state.params, state.buffers
     batch = pair_batch(data, recipe, jax.random.key(1))
     poses = flatten_poses(jnp.concatenate([batch["first"]["joints"], batch["second"]["joints"]]))
     actions = jnp.concatenate([batch["first"]["actions"], batch["second"]["actions"]])

@@ -37,9 +37,10 @@ def worker(devices: int, repeats: int) -> dict:
     from benchmarks.timing import median_ms
     from jaxmotion.geometry.skeletons import SMPL24
     from jaxmotion.models.actor import ActorConfig
-    from jaxmotion.train import LoopConfig, data_mesh, replicate, shard_batch
+    from jaxmotion.distributed import data_mesh, replicate, shard_batch
+    from jaxmotion.train import LoopConfig
     from jaxmotion.train.actor import ActorTraining, actor_state, actor_step
-    from jaxmotion.train.mesh import replicated
+    from jaxmotion.distributed import replicated
 
     mesh = data_mesh(devices)
     training = ActorTraining(model=ActorConfig(num_classes=CLASSES), loop=LoopConfig(steps=1), batch_size=BATCH)

@@ -26,8 +26,10 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, TableDataset, actformer_table, interleave_reported
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
+from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, TableDataset, interleave_reported
+from jaxmotion.recipes.tables import actformer_table
+from jaxmotion.train.actformer import ActFormerTraining
+from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
 
 FULL = "(4) Full model"
 COLUMNS = {metric: ACTFORMER_COLUMNS[metric] for metric in ("accuracy", "FIDm_train", "FID_train")}

@@ -38,18 +38,12 @@ import dataclasses
 from experiments.actformer_single import a2m_baseline
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import (
-    ACTFORMER_COLUMNS,
-    COMBAT_COLUMNS,
-    TableDataset,
-    actformer_table,
-    interleave_reported,
-    run_tables,
-    slug,
-)
+from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, COMBAT_COLUMNS, TableDataset, interleave_reported, slug
+from jaxmotion.recipes.tables import actformer_table, run_tables
 from jaxmotion.pipelines.pictures import generation_grid
 from jaxmotion.train.a2m import A2MTraining
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
+from jaxmotion.train.actformer import ActFormerTraining
+from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
 
 NTU2P = tuple(f"NTU-2P {column}" for column in ACTFORMER_COLUMNS.values())
 

@@ -44,18 +44,15 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import (
-    ACTFORMER_COLUMNS,
-    STAND_INS,
-    TableDataset,
-    actformer_table,
-    interleave_reported,
-    reported_row,
-    run_tables,
-)
-from jaxmotion.train.a2m import A2MTraining, a2m_table_training
-from jaxmotion.train.actformer import ActFormerTraining, actformer_table_training, csgn_table_training
-from jaxmotion.train.actor import ActorTraining, table_training
+from jaxmotion.data.datasets import paper_dataset
+from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import actformer_table, run_tables
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.recipes.a2m import a2m_table_training
+from jaxmotion.train.actformer import ActFormerTraining
+from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import table_training
 
 LABELS = ("NTU-13", "NTURecon-1P", "NTU-1P", "BABEL")
 #: Table 1's columns per dataset.
@@ -89,7 +86,7 @@ CLAIMS = tuple(
 def actor_baseline(label: str, profile: str) -> ActorTraining:
     """ACTOR on ``label``'s rotations in the dataset's frame (the table recipe of its class count)."""
     base = table_training("NTU-13", profile)
-    classes = STAND_INS[label].num_classes
+    classes = paper_dataset(label).num_classes
     return dataclasses.replace(base, model=dataclasses.replace(base.model, num_classes=classes), canonical=False)
 
 
@@ -97,7 +94,7 @@ def a2m_baseline(label: str, profile: str, joints: int, persons: int = 1) -> A2M
     """Action2Motion on ``label``'s ``joints`` positions in the dataset's frame (several persons: all their
     joints side by side in each frame, as the paper scales the baselines to NTU-2P)."""
     base = a2m_table_training("NTU-13", profile)
-    model = dataclasses.replace(base.model, pose_dim=3 * joints * persons, num_classes=STAND_INS[label].num_classes)
+    model = dataclasses.replace(base.model, pose_dim=3 * joints * persons, num_classes=paper_dataset(label).num_classes)
     return dataclasses.replace(base, model=model, canonical=False)
 
 
@@ -136,8 +133,8 @@ class ActFormerSingleConfig(experiment.ProfileConfig):
         for label in LABELS:
             name = _field(label)
             fields[name] = actformer_table(label, profile)
-            fields[f"{name}_actformer"] = actformer_table_training(STAND_INS[label].dataset, profile)
-            fields[f"{name}_csgn"] = csgn_table_training(STAND_INS[label].dataset, profile)
+            fields[f"{name}_actformer"] = actformer_table_training(paper_dataset(label).stand_in, profile)
+            fields[f"{name}_csgn"] = csgn_table_training(paper_dataset(label).stand_in, profile)
             if label in ACTOR_RUNS:
                 fields[f"{name}_actor"] = actor_baseline(label, profile)
             if label in A2M_RUNS:

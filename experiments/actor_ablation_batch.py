@@ -14,8 +14,10 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, table_dataset
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.evaluation.tables import TableDataset
+from jaxmotion.recipes.tables import table_dataset
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
 
 # A.2: "sensitivity ... to different batch sizes"; 20 is the value used
 CLAIMS = (

@@ -14,8 +14,10 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, table_dataset
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.evaluation.tables import TableDataset
+from jaxmotion.recipes.tables import table_dataset
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
 
 # A.3: "the performance degrades at 2 or 4 layers, we see marginal gains after 6 layers"
 CLAIMS = (

@@ -18,8 +18,10 @@ from typing import Literal
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, table_dataset
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.evaluation.tables import TableDataset
+from jaxmotion.recipes.tables import table_dataset
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
 
 # A.4: axis-angle is hard to train (discontinuities); on UESTC the 6D representation is best
 CLAIMS = (

@@ -25,7 +25,7 @@ What differs from the paper, and why:
   paper profiles; smoke trains L_P only.
 * Every variant keeps the headline's sizes (d, layers, ...): the paper's GRU "uses the same hyperparameters
   as the Transformer" (§4.3); ACTOR's code defaults to 4 GRU layers, the paper does not say which it ran.
-* The embedded stand-ins with their own recognisers (``jaxmotion.evaluation.tables.STAND_INS``):
+* The embedded stand-ins with their own recognisers (``jaxmotion.data.datasets.PAPER_DATASETS``):
   absolute numbers are not comparable with the paper's; the Real row computed here is the reference.
   paper() trains for the main runs' epochs (NTU-13 2000, UESTC 1000).
 
@@ -53,10 +53,12 @@ import dataclasses
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row, run_tables, table_dataset
+from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import run_tables, table_dataset
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig
-from jaxmotion.train.actor import ActorTraining, table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import table_training
 from jaxmotion.train.loop import LoopConfig
 
 # Table 2's rows: the ActorConfig fields each changes in the headline model

@@ -46,10 +46,13 @@ from jaxmotion import experiment
 from jaxmotion.config import replace_paths
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, evaluator_spec, train_recognizer
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, train_recognizer
+from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.evaluation.tables import TableData, real_sets, slug
 from jaxmotion.pipelines.actor import generate_motions, real_plus_generated
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
+from jaxmotion.recipes.tables import fit_generator
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.viz import save_curves
 
@@ -107,9 +110,9 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
         if len(part) < max(training.batch_size, spec.batch_size):
             raise ValueError(f"fractions: {column} of {train.name} keeps {len(part)} clips, fewer than a batch "
                              f"(training.batch_size {training.batch_size}, recognizer.batch_size {spec.batch_size})")
-        params = training.fit(part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"), mesh=ctx.mesh)
+        actor = fit_generator(training, part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"), mesh=ctx.mesh)
         labels = np.resize(part.actions, len(train))
-        generated = generate_motions(params, training.model, ctx.key("generate"), labels,
+        generated = generate_motions(actor.params, training.model, ctx.key("generate"), labels,
                                      np.full(len(labels), training.window), train.skeleton,
                                      class_names=train.class_names, fps=train.fps, split="train")
         ctx.export(generated, slug(f"generated {column}"))

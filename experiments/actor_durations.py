@@ -42,16 +42,10 @@ from jaxmotion import experiment
 from jaxmotion.config import replace_paths
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig, check_real_sets
-from jaxmotion.evaluation.tables import (
-    TableDataset,
-    paper_columns,
-    real_sets,
-    score_rows,
-    slug,
-    table_dataset,
-    table_evaluator,
-)
-from jaxmotion.train.actor import UESTC_EPOCH, ActorTraining, uestc_training
+from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, slug, table_evaluator
+from jaxmotion.recipes.tables import fit_generator, table_dataset
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import UESTC_EPOCH, uestc_training
 from jaxmotion.viz import save_curves
 
 FIXED, VARIABLE = "Fixed-size", "Variable-size"
@@ -111,13 +105,12 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
     for duration in config.durations:  # every duration's real windows, before anything trains
         check_real_sets(real, dataclasses.replace(config.table.protocol, duration=duration))
     recognizer = table_evaluator(config.table, real, ctx.data_root)
-    fixed_params = fixed.fit(train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh)
+    fixed_generator = fit_generator(fixed, train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh)
     # the fine-tune starts from the fixed run's last checkpoint (its parameters, AdamW moments and step), with
     # the same key, so the data order goes on; an interrupted fine-tune resumes from its own checkpoints
-    variable_params = variable.fit(train, ctx.key("train"), ctx.workdir / slug(VARIABLE),
-                                   init_from=ctx.workdir / slug(FIXED), mesh=ctx.mesh)
-    samplers = {FIXED: fixed.sampler(fixed_params, train.skeleton),
-                VARIABLE: variable.sampler(variable_params, train.skeleton)}
+    variable_generator = fit_generator(variable, train, ctx.key("train"), ctx.workdir / slug(VARIABLE),
+                                       init_from=ctx.workdir / slug(FIXED), mesh=ctx.mesh)
+    samplers = {FIXED: fixed_generator.sampler(), VARIABLE: variable_generator.sampler()}
     rows: dict[str, dict[str, np.ndarray]] = {}
     for duration in config.durations:
         protocol = dataclasses.replace(config.table.protocol, duration=duration)

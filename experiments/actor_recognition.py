@@ -56,7 +56,8 @@ from jaxmotion.config import replace_paths
 from jaxmotion.data.motion import MotionDataset, to_dataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows, gather_windows
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, evaluator_spec, train_recognizer
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, train_recognizer
+from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.evaluation.tables import TableData, real_sets, slug
 from jaxmotion.metrics.smoothness import mean_acceleration
 from jaxmotion.pipelines.actor import (
@@ -66,7 +67,9 @@ from jaxmotion.pipelines.actor import (
     noisy,
     real_plus_generated,
 )
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
+from jaxmotion.recipes.tables import fit_generator
 from jaxmotion.train.loop import LoopConfig
 
 TEST_SETS = ("Real_orig", "Real_denoised")
@@ -120,7 +123,7 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
     real = real_sets(config.data, ctx.data_root)
     train, test, training = real["train"], real["test"], config.training
     skeleton, model = train.skeleton, training.model
-    params = training.fit(train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
+    params = fit_generator(training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh).params
 
     def pack(motions: dict, name: str, split: str) -> MotionDataset:
         return to_dataset(motions, skeleton, train.class_names, train.fps, name=name, split=split)

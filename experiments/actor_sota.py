@@ -49,9 +49,12 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row, run_tables, table_dataset
-from jaxmotion.train.a2m import A2MTraining, a2m_table_training
-from jaxmotion.train.actor import CPU_BASELINE, ActorTraining, table_training
+from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.recipes.a2m import a2m_table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import CPU_BASELINE, table_training
 
 # Table 3, means: FID_tr, Acc., Div., Multimod. on NTU-13, then on HumanAct12
 REPORTED = {

@@ -29,16 +29,11 @@ import dataclasses
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import (
-    TableDataset,
-    paper_columns,
-    real_sets,
-    score_rows,
-    table_dataset,
-    table_evaluator,
-)
+from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, table_evaluator
+from jaxmotion.recipes.tables import fit_generator, table_dataset
 from jaxmotion.pipelines.pictures import generation_grid
-from jaxmotion.train.actor import ActorTraining, uestc_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import uestc_training
 
 # Paper Table 2 (UESTC), means only: the runner's cells are numbers.
 REPORTED = {
@@ -70,8 +65,8 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
     recognizer = table_evaluator(config.table, real, ctx.data_root)
-    params = config.training.fit(train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
-    samplers = {"ACTOR": config.training.sampler(params, train.skeleton)}
+    generator = fit_generator(config.training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
+    samplers = {"ACTOR": generator.sampler()}
     rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, recognizer, config.table.protocol,
                                     mesh=ctx.mesh))
     generated = generation_grid(samplers["ACTOR"], ctx.key("pictures"), train.skeleton,

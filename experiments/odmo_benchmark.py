@@ -37,8 +37,8 @@ What differs from the paper, and why:
 
 Reported numbers: Table 1, means (the extracted text keeps the rows and columns in order).
 
-Profiles (:func:`jaxmotion.train.odmo.odmo_table_training`): ``paper`` is the authors' recipe (512 pairs,
-400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.train.odmo.CPU_TRAINING`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
+Profiles (:func:`jaxmotion.train.odmo.odmo_table_recipe`): ``paper`` is the authors' recipe (512 pairs,
+400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.train.odmo.CPU_RECIPE`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
 trajectory generator alone has 38 M parameters (its first layer maps 803 inputs to 803 × 59), beyond a
 20-30 minute budget on 2 cores with three ODMO trainings; add it with ``--set 'datasets=["HumanAct12","UESTC"]'``.
 """
@@ -50,17 +50,13 @@ import dataclasses
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import (
-    ODMO_COLUMNS,
-    TableDataset,
-    interleave_reported,
-    reported_row,
-    run_tables,
-    table_dataset,
-)
-from jaxmotion.train.a2m import A2MTraining, a2m_table_training
-from jaxmotion.train.actor import ActorTraining, table_training
-from jaxmotion.train.odmo import ODMOTraining, benchmark_variants, odmo_table_training
+from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.recipes.a2m import a2m_table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import table_training
+from jaxmotion.recipes.odmo import ODMORecipe, benchmark_variants, odmo_table_recipe
 
 LABELS = ("HumanAct12", "UESTC")
 
@@ -109,11 +105,11 @@ def _table(label: str, profile: str) -> TableDataset:
 class OdmoBenchmarkConfig(experiment.ProfileConfig):
     datasets: tuple[str, ...]  # which of Table 1's datasets run (their fields below)
     humanact12: TableDataset
-    humanact12_odmo: ODMOTraining
+    humanact12_odmo: ODMORecipe
     humanact12_a2m: A2MTraining
     humanact12_actor: ActorTraining
     uestc: TableDataset
-    uestc_odmo: ODMOTraining
+    uestc_odmo: ODMORecipe
     uestc_a2m: A2MTraining
     uestc_actor: ActorTraining
 
@@ -128,7 +124,7 @@ class OdmoBenchmarkConfig(experiment.ProfileConfig):
         for label in LABELS:
             name = label.lower()
             fields[name] = _table(label, profile)
-            fields[f"{name}_odmo"] = odmo_table_training(label, profile)
+            fields[f"{name}_odmo"] = odmo_table_recipe(label, profile)
             fields[f"{name}_a2m"] = a2m_table_training(label, profile)
             fields[f"{name}_actor"] = table_training(label, profile)
         return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS, **fields)

@@ -23,10 +23,13 @@ import dataclasses
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row, run_table, table_dataset
-from jaxmotion.train.a2m import A2MTraining, a2m_table_training
-from jaxmotion.train.actor import ActorTraining, table_training
-from jaxmotion.train.odmo import ODMOTraining, benchmark_variants, odmo_table_training
+from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import run_table, table_dataset
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.recipes.a2m import a2m_table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import table_training
+from jaxmotion.recipes.odmo import ODMORecipe, benchmark_variants, odmo_table_recipe
 
 # Table 2, means: Acc, FID, Diversity, MModality, n-APD
 REPORTED = {name: reported_row({"MoCap": values}, ODMO_COLUMNS) for name, values in {
@@ -52,7 +55,7 @@ CLAIMS = tuple(Claim("ODMO", op, other, f"MoCap {column}", f"Table 2: ODMO impro
 @dataclasses.dataclass(frozen=True)
 class OdmoMocapConfig(experiment.ProfileConfig):
     mocap: TableDataset
-    odmo: ODMOTraining
+    odmo: ODMORecipe
     a2m: A2MTraining
     actor: ActorTraining
 
@@ -63,7 +66,7 @@ class OdmoMocapConfig(experiment.ProfileConfig):
                               cpu_protocol=dataclasses.replace(protocol, repetitions=5),
                               smoke_protocol=ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, duration=100,
                                                             chunk=64, n_apd=True))
-        return cls(table, odmo_table_training("MoCap", profile), a2m_table_training("MoCap", profile),
+        return cls(table, odmo_table_recipe("MoCap", profile), a2m_table_training("MoCap", profile),
                    table_training("MoCap", profile))
 
 

@@ -48,8 +48,10 @@ from jaxmotion.evaluation.tables import TableData, interleave_reported, real_set
 from jaxmotion.pipelines.actor import posterior
 from jaxmotion.pipelines.odmo import encode_windows, interpolate_modes, score_modes
 from jaxmotion.metrics.apd import mode_homogeneity
-from jaxmotion.train.actor import ActorTraining, table_training
-from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.recipes.actor import table_training
+from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
+from jaxmotion.recipes.tables import fit_generator
 from jaxmotion.viz import save_scatter
 
 LABELS = ("HumanAct12", "UESTC")
@@ -67,7 +69,7 @@ class ModesTable:
 
     label: str
     data: TableData
-    odmo: ODMOTraining
+    odmo: ODMORecipe
     actor: ActorTraining
     per_class: int
     repetitions: int
@@ -87,7 +89,7 @@ class OdmoModesConfig(experiment.ProfileConfig):
             smoke = profile == "smoke"
             tables[label.lower()] = ModesTable(
                 label, TableData(DATASETS[label], count=80 if smoke else None, test_split=False),
-                odmo_table_training(label, profile), table_training(label, profile),
+                odmo_table_recipe(label, profile), table_training(label, profile),
                 per_class=12 if smoke else {"HumanAct12": 250, "UESTC": 200}[label],
                 repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
         return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS, **tables)
@@ -100,7 +102,7 @@ def actor_means(params, training: ActorTraining, windows: dict, chunk: int = 512
                                                 config=training.model)[0], rows, chunk)
 
 
-def _figures(table: ModesTable, odmo_fit, windows: dict, codes: np.ndarray, scored: dict, skeleton, folder) -> None:
+def _figures(table: ModesTable, odmo, windows: dict, codes: np.ndarray, scored: dict, skeleton, folder) -> None:
     folder.mkdir(parents=True, exist_ok=True)
     c = table.figure_class
     rows = np.flatnonzero(windows["actions"] == c)
@@ -117,7 +119,7 @@ def _figures(table: ModesTable, odmo_fit, windows: dict, codes: np.ndarray, scor
     sizes = np.bincount(labels)
     if len(sizes) >= 2:
         a, b = np.argsort(sizes)[::-1][:2]
-        strip = interpolate_modes(odmo_fit, table.odmo, c, int(a), int(b), 5)
+        strip = interpolate_modes(odmo, c, int(a), int(b), 5)
         for i, w in enumerate(strip["weights"]):
             motion = Motion(strip["joints"][i], strip["translation"][i], None, action=c, mode=-1, subject=-1,
                             name=f"interpolation-{i}")
@@ -130,14 +132,14 @@ def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
     data = real_sets(table.data, ctx.data_root)["train"]
     workdir = ctx.workdir / slug(table.label)
     key = ctx.key(f"train {table.label}")
-    odmo_fit = table.odmo.fit(data, key, workdir / "odmo", mesh=ctx.mesh)
-    actor_params = table.actor.fit(data, key, workdir / "actor", mesh=ctx.mesh)
-    spec = BatchSpec(batch_size=1, window=table.odmo.model.num_frames, canonical=table.odmo.canonical)
+    odmo = fit_generator(table.odmo, data, key, workdir / "odmo", mesh=ctx.mesh)
+    actor_params = fit_generator(table.actor, data, key, workdir / "actor", mesh=ctx.mesh).params
+    spec = BatchSpec(batch_size=1, window=odmo.model.num_frames, canonical=table.odmo.training.canonical)
     cells = {row: {"mode-homogeneity": [], "ARI": []} for row in ROWS}
     for r in range(table.repetitions):
         k_windows, k_modes = jax.random.split(jax.random.fold_in(ctx.key(f"modes {table.label}"), r))
         windows = class_windows(data, k_windows, spec, table.per_class)
-        codes = encode_windows(odmo_fit.params, odmo_fit.stats, table.odmo.model, windows["joints"])
+        codes = encode_windows(odmo.params, odmo.buffers, odmo.model, windows["joints"])
         scores = {"Modes_ODMO": score_modes(codes, windows["actions"], windows["modes"], windows["joints"],
                                             data.num_classes, key=k_modes),
                   "Modes_ACTOR": score_modes(actor_means(actor_params, table.actor, windows), windows["actions"],
@@ -153,7 +155,7 @@ def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
                 int(truth.max()) + 1)))
             cells[name]["ARI"].append(0.0 if name == "Real motions" else 1.0)
         if r == 0:
-            _figures(table, odmo_fit, windows, codes, scores["Modes_ODMO"], data.skeleton, ctx.workdir / "figures")
+            _figures(table, odmo, windows, codes, scores["Modes_ODMO"], data.skeleton, ctx.workdir / "figures")
     return cells
 
 

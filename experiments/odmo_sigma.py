@@ -26,8 +26,9 @@ from typing import Literal
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row, run_tables, table_dataset
-from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
+from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row
+from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
 
 LABELS = ("HumanAct12", "MoCap", "UESTC")
 SIGMAS = (6.25, 1.25, 0.25, 0.05, 0.01)
@@ -63,11 +64,11 @@ class OdmoSigmaConfig(experiment.ProfileConfig):
     sigmas: tuple[float, ...]
     prior: Literal["std", "variance"]  # how prior_scale reads the sweep's values (code: std)
     humanact12: TableDataset
-    humanact12_odmo: ODMOTraining
+    humanact12_odmo: ODMORecipe
     mocap: TableDataset
-    mocap_odmo: ODMOTraining
+    mocap_odmo: ODMORecipe
     uestc: TableDataset
-    uestc_odmo: ODMOTraining
+    uestc_odmo: ODMORecipe
 
     @classmethod
     def for_profile(cls, profile: str) -> OdmoSigmaConfig:
@@ -80,14 +81,15 @@ class OdmoSigmaConfig(experiment.ProfileConfig):
                 cpu_protocol=dataclasses.replace(protocol, repetitions=5),
                 smoke_protocol=ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, duration=duration,
                                               chunk=64))
-            fields[f"{label.lower()}_odmo"] = odmo_table_training(label, profile)
+            fields[f"{label.lower()}_odmo"] = odmo_table_recipe(label, profile)
         return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS,
                    sigmas=(6.25, 0.05) if profile == "smoke" else SIGMAS, prior="std", **fields)
 
 
-def sweep(odmo: ODMOTraining, sigmas, prior: str) -> dict[str, ODMOTraining]:
-    return {row_name(s): dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, prior_scale=s, prior=prior))
-            for s in sigmas}
+def sweep(odmo: ODMORecipe, sigmas, prior: str) -> dict[str, ODMORecipe]:
+    losses = odmo.training.losses
+    return {row_name(s): dataclasses.replace(odmo, training=dataclasses.replace(
+        odmo.training, losses=dataclasses.replace(losses, prior_scale=s, prior=prior))) for s in sigmas}
 
 
 def run(config: OdmoSigmaConfig, ctx: experiment.RunContext):

@@ -41,11 +41,14 @@ import numpy as np
 
 from jaxmotion import experiment
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec, trained_recognizer
-from jaxmotion.evaluation.tables import STAND_INS, TableData, interleave_reported, real_sets, side_by_side, slug
+from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
+from jaxmotion.recipes.evaluators import evaluator_spec
+from jaxmotion.data.datasets import paper_dataset
+from jaxmotion.evaluation.tables import TableData, interleave_reported, real_sets, side_by_side, slug
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
-from jaxmotion.pipelines.odmo import customize_end, end_point_trials
-from jaxmotion.train.odmo import ODMOTraining, odmo_table_training
+from jaxmotion.pipelines.odmo import ODMOGenerator, customize_end, end_point_trials
+from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
+from jaxmotion.recipes.tables import fit_generator
 from jaxmotion.viz import save_trajectories
 
 LABELS = ("MoCap", "HumanAct12", "UESTC")
@@ -70,17 +73,19 @@ class TrajectoryTable:
     label: str
     data: TableData
     evaluator: RecognizerTraining
-    odmo: ODMOTraining
+    odmo: ODMORecipe
     trials: int = 40
     points: int = 10
     repetitions: int = 10
 
 
-def ablations(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
+def ablations(odmo: ODMORecipe) -> dict[str, ODMORecipe]:
     """Table 4's rows from the full recipe."""
-    return {"-L_traj": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, trajectory_loss=False)),
-            "-L_cons": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, consistency=False)),
-            "ODMO": odmo}
+    def without(**change):
+        return dataclasses.replace(odmo, training=dataclasses.replace(
+            odmo.training, losses=dataclasses.replace(odmo.training.losses, **change)))
+
+    return {"-L_traj": without(trajectory_loss=False), "-L_cons": without(consistency=False), "ODMO": odmo}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -96,22 +101,22 @@ class OdmoTrajectoryConfig(experiment.ProfileConfig):
         for label in LABELS:
             smoke = profile == "smoke"
             tables[label.lower()] = TrajectoryTable(
-                label, TableData(STAND_INS[label].dataset, count=80 if smoke else None, test_split=False),
-                evaluator_spec(EVALUATORS[label], profile), odmo_table_training(label, profile),
+                label, TableData(paper_dataset(label).stand_in, count=80 if smoke else None, test_split=False),
+                evaluator_spec(EVALUATORS[label], profile), odmo_table_recipe(label, profile),
                 trials=2 if smoke else 40, points=3 if smoke else 10,
                 repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
         return cls(datasets=("MoCap", "HumanAct12") if profile == "cpu" else LABELS, **tables)
 
 
-def _figures(trained, training: ODMOTraining, folder, label: str, key: jax.Array) -> None:
+def _figures(odmo: ODMOGenerator, folder, label: str, key: jax.Array) -> None:
     folder.mkdir(parents=True, exist_ok=True)
-    bank = trained.bank
+    bank = odmo.bank
     rows = bank.of_class(0)
     pick = np.asarray(jax.random.randint(key, (6,), 0, len(rows)))
     a, b = bank.ends[rows[pick[0]]], bank.ends[rows[pick[1]]]
     ends = np.linspace(a, b, 10).astype(np.float32)
-    one_code = customize_end(trained, training, bank.codes[rows[pick[2]]], 0, ends)
-    many = customize_end(trained, training, bank.codes[rows[pick[2:6]]], 0, np.repeat(ends[5:6], 4, axis=0))
+    one_code = customize_end(odmo, bank.codes[rows[pick[2]]], 0, ends)
+    many = customize_end(odmo, bank.codes[rows[pick[2:6]]], 0, np.repeat(ends[5:6], 4, axis=0))
     save_trajectories(folder / f"{slug(label)}-end-points.png",
                       {"one code, 10 end points": (one_code["joints"][:, :, 0], ends),
                        "4 codes, one end point": (many["joints"][:, :, 0], many["ends"])},
@@ -124,12 +129,12 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
     recognizer, _ = trained_recognizer(table.evaluator, data_root=ctx.data_root)  # before any row trains
     rows = {}
     key = ctx.key(f"train {table.label}")
-    for name, training in ablations(table.odmo).items():
-        trained = training.fit(data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh)
+    for name, recipe in ablations(table.odmo).items():
+        odmo = fit_generator(recipe, data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh)
         cells = {"Acc": [], "dist_e": [], "end error (cm)": [], "hit rate (%)": [], "path end error (cm)": [],
                  "end response": []}
         for r in range(table.repetitions):
-            result = end_point_trials(trained, training, jax.random.fold_in(ctx.key(f"trials {table.label}"), r),
+            result = end_point_trials(odmo, jax.random.fold_in(ctx.key(f"trials {table.label}"), r),
                                       trials=table.trials, points=table.points)
             motions = result["motions"]
             logits, _ = recognizer(motions)
@@ -142,7 +147,7 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
             cells["end response"].append(result["end_response"])
         rows[name] = cells
         if name == "ODMO":
-            _figures(trained, training, ctx.workdir / "figures", table.label, ctx.key(f"figures {table.label}"))
+            _figures(odmo, ctx.workdir / "figures", table.label, ctx.key(f"figures {table.label}"))
     return rows
 
 

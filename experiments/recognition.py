@@ -24,14 +24,8 @@ import sys
 import jax
 
 from jaxmotion import experiment
-from jaxmotion.evaluation.recognizers import (
-    EVALUATORS,
-    RecognizerTraining,
-    evaluate_recognizer,
-    evaluator_spec,
-    trained_recognizer,
-    training_data,
-)
+from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluate_recognizer, trained_recognizer, training_data
+from jaxmotion.recipes.evaluators import EVALUATORS, evaluator_spec
 
 
 @dataclasses.dataclass(frozen=True)

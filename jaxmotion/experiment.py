@@ -44,9 +44,9 @@ from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.table import format_table
-from jaxmotion.evaluation.tables import run_table
+from jaxmotion.recipes.tables import run_table
 from jaxmotion.files import LOCK_NAME, InUseError, folder_lock, read_json, write_atomic, write_json
-from jaxmotion.train.mesh import data_mesh, initialize_distributed, is_primary
+from jaxmotion.distributed import data_mesh, initialize_distributed, is_primary
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
 

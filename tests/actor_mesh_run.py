@@ -6,7 +6,7 @@ library's loop on ``data_mesh(N)`` (0: every device; -1: no mesh), once per coun
 ``DIR/devices-N`` and writing the final parameters there as ``params.npz`` (one process, one compilation
 of the data and initialisation programs for all counts). The device count comes from ``XLA_FLAGS=--xla_force_host_platform_device_count``;
 several processes join through ``JAXMOTION_COORDINATOR`` / ``JAXMOTION_NUM_PROCESSES`` /
-``JAXMOTION_PROCESS_ID`` (:func:`jaxmotion.train.mesh.initialize_distributed`). ``DATA.pkl`` is a pickled
+``JAXMOTION_PROCESS_ID`` (:func:`jaxmotion.distributed.initialize_distributed`). ``DATA.pkl`` is a pickled
 ``MotionDataset`` (made once by the test, so no subprocess pays for generating it).
 """
 
@@ -20,7 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run as a script from any folder
 
-from jaxmotion.train.mesh import initialize_distributed  # noqa: E402
+from jaxmotion.distributed import initialize_distributed  # noqa: E402
 
 initialize_distributed()  # before any computation; a no-op without the JAXMOTION_* variables
 
@@ -29,7 +29,8 @@ import numpy as np  # noqa: E402
 
 from jaxmotion.data.pipeline import BatchSpec, make_batch_fn  # noqa: E402
 from jaxmotion.models.actor import ActorConfig  # noqa: E402
-from jaxmotion.train import LoopConfig, data_mesh, train  # noqa: E402
+from jaxmotion.distributed import data_mesh  # noqa: E402
+from jaxmotion.train import LoopConfig, train  # noqa: E402
 from jaxmotion.train.actor import ActorTraining, actor_state, actor_step  # noqa: E402
 
 MODEL = dict(width=16, ff=32, layers=1, heads=2, dropout=0.0)

@@ -16,7 +16,7 @@ from jaxmotion.data.pipeline import map_in_chunks  # noqa: E402
 from jaxmotion.evaluation.protocol import generate  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24  # noqa: E402
 from jaxmotion.models.recognition import Recognizer, RecognizerConfig, init_recognizer  # noqa: E402
-from jaxmotion.train.mesh import data_mesh, replicate, shard_batch  # noqa: E402
+from jaxmotion.distributed import data_mesh, replicate, shard_batch  # noqa: E402
 
 
 def check_helpers():

@@ -44,7 +44,7 @@ def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_prot
     for a, b in zip(jax.tree.leaves(straight), jax.tree.leaves(resumed), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
-    sampler = _training(4).sampler(resumed, SMPL24)
+    sampler = a2m_sampler(resumed, _training(4).model, SMPL24)
     motions = sampler(jax.random.key(1), np.array([0, 2, 1]), np.array([7, 5, 7]))
     assert motions["joints"].shape == (3, 7, 24, 3) and motions["translation"].shape == (3, 7, 3)
     assert np.isfinite(motions["joints"]).all()
@@ -77,7 +77,7 @@ def test_several_persons_are_one_body_of_their_joints_per_frame_person_major():
     training = A2MTraining(model, LoopConfig(2, log_every=1, checkpoint_every=0), batch_size=4, window=10,
                            canonical=False)
     params = train_a2m(pairs, training, jax.random.key(0), progress=False)
-    motions = training.sampler(params, SMPL24)(jax.random.key(1), np.array([0, 2]), np.array([10, 10]))
+    motions = a2m_sampler(params, model, SMPL24)(jax.random.key(1), np.array([0, 2]), np.array([10, 10]))
     assert motions["joints"].shape == (2, 2, 10, 24, 3) and motions["translation"].shape == (2, 2, 10, 3)
     np.testing.assert_array_equal(motions["translation"], motions["joints"][..., 0, :])
     # the step reads frame t as person 0's joints then person 1's: the same pairs swapped are other poses

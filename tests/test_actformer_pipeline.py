@@ -14,7 +14,8 @@ from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.representations import actformer_features, limb_vectors
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.models.actformer import GeneratorConfig, normalize_output
-from jaxmotion.pipelines.actformer import fit_of, generate_motions, to_motions
+from jaxmotion.pipelines.actformer import ActFormerGenerator, generate_motions, to_motions
+from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.train.actformer import ActFormerTraining, actformer_state, critic_graphs
 from jaxmotion.train.loop import LoopConfig
 
@@ -27,7 +28,7 @@ def _training(**generator):
 
 def _fresh(training, data):
     state = actformer_state(training, critic_graphs(training, data.skeleton.parents), jax.random.key(0))
-    return fit_of(state, data)
+    return ActFormerGenerator.trained_on(training.model, state.params["generator"], state.buffers["generator"], data)
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +45,7 @@ def test_skeleton_output_rebuilds_joints_whose_limbs_are_the_generated_unit_vect
     parents = pairs.skeleton.parents
     raw = jax.random.normal(jax.random.key(1), (3, 2, 16, 25, 3))
     motion = normalize_output(raw, "skeleton")
-    lengths = fit_of(None, pairs).bone_lengths
+    lengths = _fresh(_training(persons=2), pairs).bone_lengths
     joints = to_motions(motion, "skeleton", pairs.skeleton, lengths)["joints"]
     np.testing.assert_allclose(np.asarray(joints[..., 0, :]), np.asarray(motion[..., 0, :]))
     bones = np.linalg.norm(np.asarray(joints - joints[..., np.maximum(np.array(parents), 0), :]), axis=-1)
@@ -60,7 +61,8 @@ def test_smpl_output_of_real_features_gives_back_the_real_rotations_and_the_path
     windows = epoch_windows(smpl, jax.random.key(0), BatchSpec(batch_size=1, window=16, canonical=False), 4)
     features = actformer_features("rot6d+translation", smpl.skeleton.parents, windows["joints"],
                                   windows["translation"], windows["rotations"])
-    out = to_motions(features, "smpl", smpl.skeleton, fit_of(None, smpl).bone_lengths)
+    lengths = _fresh(_training(joints=25, channels=6, output="smpl"), smpl).bone_lengths
+    out = to_motions(features, "smpl", smpl.skeleton, lengths)
     np.testing.assert_allclose(np.asarray(axis_angle_to_matrix(out["rotations"])),
                                np.asarray(axis_angle_to_matrix(jnp.asarray(windows["rotations"]))), atol=1e-5)
     centred = np.asarray(windows["translation"]) - np.asarray(windows["translation"]).mean(axis=1, keepdims=True)
@@ -73,7 +75,7 @@ def test_smpl_output_of_real_features_gives_back_the_real_rotations_and_the_path
 
 
 def test_motions_are_lifted_by_the_data_s_mean_root_height(pairs):
-    fitted = fit_of(None, pairs)
+    fitted = _fresh(_training(persons=2), pairs)
     np.testing.assert_allclose(fitted.root_height, pairs.joints[..., 0, 1].mean(), rtol=1e-6)
     assert 0.5 < fitted.root_height < 1.5  # a standing pelvis, metres
     motion = normalize_output(jax.random.normal(jax.random.key(3), (2, 16, 25, 3)), "skeleton")
@@ -87,9 +89,9 @@ def test_row_n_depends_on_its_key_only_not_on_the_chunking_or_the_other_rows(pai
     training = _training(persons=2)
     trained = _fresh(training, pairs)
     actions = np.array([3, 0, 25, 7, 3])
-    whole = generate_motions(trained, training, jax.random.key(5), actions, pairs.skeleton, chunk=5)
-    parts = generate_motions(trained, training, jax.random.key(5), actions, pairs.skeleton, chunk=2)
-    first = generate_motions(trained, training, jax.random.key(5), actions[:3], pairs.skeleton)
+    whole = generate_motions(trained, jax.random.key(5), actions, chunk=5)
+    parts = generate_motions(trained, jax.random.key(5), actions, chunk=2)
+    first = generate_motions(trained, jax.random.key(5), actions[:3])
     assert whole["joints"].shape == (5, 2, 16, 25, 3) and whole["lengths"].tolist() == [16] * 5
     scale = 1e-5 * np.abs(whole["joints"]).max()  # float32 sums in other batch shapes (untrained roots are large)
     np.testing.assert_allclose(whole["joints"], parts["joints"], rtol=1e-4, atol=scale)
@@ -100,14 +102,14 @@ def test_row_n_depends_on_its_key_only_not_on_the_chunking_or_the_other_rows(pai
 def test_the_sampler_refuses_other_durations_skeletons_and_classes(pairs, smpl):
     training = _training(persons=2)
     trained = _fresh(training, pairs)
-    sampler = training.sampler(trained, pairs.skeleton)
+    sampler = trained.sampler()
     assert sampler(jax.random.key(0), jnp.arange(2), jnp.full(2, 16))["joints"].shape == (2, 2, 16, 25, 3)
     with pytest.raises(ValueError, match="generates 16 frames"):
         sampler(jax.random.key(0), jnp.arange(2), jnp.full(2, 60))
     with pytest.raises(ValueError, match="actions"):
         sampler(jax.random.key(0), jnp.array([26]), jnp.full(1, 16))
     with pytest.raises(ValueError, match="writes 25 joints"):
-        training.sampler(trained, smpl.skeleton)
+        dataclasses.replace(trained, facts=DataFacts.of(smpl))
     raw = dataclasses.replace(training, generator=dataclasses.replace(training.generator, output="raw"))
     with pytest.raises(ValueError, match="'raw' output"):
-        raw.sampler(trained, pairs.skeleton)
+        dataclasses.replace(trained, model=raw.model)

@@ -11,10 +11,14 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.geometry.skeletons import NTU25
 from jaxmotion.models.actformer import GeneratorConfig
-from jaxmotion.pipelines.actformer import fit_of, generate_motions
+from jaxmotion.pipelines.actformer import ActFormerGenerator, generate_motions
 from jaxmotion.train.actformer import ActFormerTraining, critic_graphs, real_batches, train_actformer
 from jaxmotion.train.loop import LoopConfig
 
+
+
+def _generator(training, state, data):
+    return ActFormerGenerator.trained_on(training.model, state.params["generator"], state.buffers["generator"], data)
 
 def _training(persons=2, loss="hinge", steps=2):
     generator = GeneratorConfig(num_classes=26, persons=persons, frames=16, depth=1, width_per_joint=4, heads=4)
@@ -62,8 +66,7 @@ def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, 
                                           else fresh.buffers[name].embedding.u))
     log = (tmp_path / "a" / "metrics.jsonl").read_text().splitlines()
     assert len(log) == 2 and all("critic_loss" in line and "generator_loss" in line for line in log)
-    motions = generate_motions(fit_of(first, pairs), training, jax.random.key(2),
-                               np.arange(3), pairs.skeleton)
+    motions = generate_motions(_generator(training, first, pairs), jax.random.key(2), np.arange(3))
     assert motions["joints"].shape == (3, 2, 16, 25, 3) and np.isfinite(motions["joints"]).all()
 
 
@@ -78,7 +81,7 @@ def test_the_recipe_trains_the_graph_convolution_generator_with_its_batch_statis
     every training-mode pass), the critic still spectrally normalised; generation reads the running statistics,
     so a motion does not depend on the others drawn with it."""
     from jaxmotion.models.csgn import CSGNConfig
-    from jaxmotion.train.actformer import csgn_table_training
+    from jaxmotion.recipes.actformer import csgn_table_training
 
     generator = CSGNConfig(num_classes=26, persons=2, frames=16, widths=(8, 8, 8, 8))
     training = dataclasses.replace(_training(), generator=generator)
@@ -86,9 +89,9 @@ def test_the_recipe_trains_the_graph_convolution_generator_with_its_batch_statis
     state = train_actformer(pairs, training, jax.random.key(1), None, progress=False)
     stats = state.buffers["generator"].input_norm
     assert not np.allclose(np.asarray(stats.running_mean), 0.0) and not np.allclose(np.asarray(stats.running_var), 1.0)
-    fitted = fit_of(state, pairs)
-    three = generate_motions(fitted, training, jax.random.key(2), np.arange(3), pairs.skeleton)
-    one = generate_motions(fitted, training, jax.random.key(2), np.arange(1), pairs.skeleton)
+    fitted = _generator(training, state, pairs)
+    three = generate_motions(fitted, jax.random.key(2), np.arange(3))
+    one = generate_motions(fitted, jax.random.key(2), np.arange(1))
     assert three["joints"].shape == (3, 2, 16, 25, 3)
     np.testing.assert_allclose(one["joints"][0], three["joints"][0], atol=1e-5)
     # the table recipe: the dataset's tree (SMPL-25 adds the translation node), everything else ActFormer's

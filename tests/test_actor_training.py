@@ -7,6 +7,7 @@ import pytest
 
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.models.actor import ActorConfig
+from jaxmotion.pipelines.actor import actor_sampler
 from jaxmotion.train.actor import ActorTraining, train_actor
 from jaxmotion.train.loop import LoopConfig
 
@@ -22,7 +23,7 @@ def test_training_resumes_and_the_sampler_returns_library_motions(tmp_path):
     for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(again), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
 
-    sampler = TINY.sampler(params, data.skeleton)
+    sampler = actor_sampler(params, TINY.model, data.skeleton)
     motions = sampler(jax.random.key(1), jnp.array([0, 5, 11]), jnp.array([12, 8, 12]))
     assert motions["joints"].shape == (3, 12, 24, 3) and motions["rotations"].shape == (3, 12, 24, 3)
     np.testing.assert_array_equal(np.asarray(motions["lengths"]), [12, 8, 12])

@@ -5,7 +5,7 @@ import pytest
 from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
 
 from experiments import odmo_benchmark
-from jaxmotion.train.odmo import benchmark_variants
+from jaxmotion.recipes.odmo import benchmark_variants
 
 HUMANACT12 = ["HumanAct12 Acc", "HumanAct12 FID_tr", "HumanAct12 Diversity", "HumanAct12 MModality",
               "HumanAct12 n-APD"]

@@ -9,7 +9,8 @@ import pytest
 
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.evaluation.protocol import ProtocolConfig, evaluate
-from jaxmotion.evaluation.recognizers import RecognizerTraining, evaluator_spec
+from jaxmotion.evaluation.recognizers import RecognizerTraining
+from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.evaluation.tables import TableData
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
@@ -120,7 +121,7 @@ def test_an_unknown_dataset_name_from_the_command_line_fails_at_parse_time(tmp_p
 
 
 def test_a_table_with_a_duration_longer_than_every_clip_fails_before_anything_trains(tmp_path, monkeypatch):
-    from jaxmotion.evaluation.tables import run_table, table_dataset
+    from jaxmotion.recipes.tables import run_table, table_dataset
 
     monkeypatch.setenv("JAXMOTION_CACHE", str(tmp_path / "cache"))
     table = table_dataset("HumanAct12", "smoke")

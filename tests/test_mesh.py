@@ -16,7 +16,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import actor_mesh_run  # noqa: E402
 from test_actor_resume import SCRIPT, assert_runs_bitwise_equal, data_file, kill_after_checkpoint  # noqa: E402, F401
 
-from jaxmotion.train import data_mesh, initialize_distributed  # noqa: E402
+from jaxmotion.distributed import data_mesh, initialize_distributed  # noqa: E402
 
 CHECKS = Path(__file__).with_name("mesh_checks.py")
 # Adam's steps are ~lr whatever the gradient's size, so float32 sums in another order can move a parameter

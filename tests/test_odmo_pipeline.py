@@ -10,11 +10,13 @@ import pytest
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.models.odmo import ODMOConfig, init_odmo
 from jaxmotion.pipelines import odmo as pipe
-from jaxmotion.train.odmo import CodeBankConfig, ModeDiscovery, ODMOFit, ODMOTraining
+from jaxmotion.geometry.skeletons import SMPL24
+from jaxmotion.pipelines.artefacts import DataFacts
+from jaxmotion.pipelines.odmo import CodeBankConfig
 
 CONFIG = ODMOConfig(num_joints=24, num_classes=3, num_frames=12, code_dim=4, encoder_hidden=8, encoder_width=16,
                     trajectory_hidden=8, trajectory_layers=1, motion_hidden=8, motion_layers=1)
-TRAINING = ODMOTraining(CONFIG, bank=CodeBankConfig(passes=1, draws=300), modes=ModeDiscovery(n_init=2))
+BANK = CodeBankConfig(passes=1, draws=300)
 
 
 def _bank(seed=0, per_mode=(40, 25, 5), classes=3, spread=0.05):
@@ -37,7 +39,8 @@ def _bank(seed=0, per_mode=(40, 25, 5), classes=3, spread=0.05):
 
 def _trained(bank):
     params, stats = init_odmo(jax.random.key(0), CONFIG)
-    return ODMOFit(params, stats, bank)
+    facts = DataFacts(SMPL24, ("a", "b", "c"), 20.0)
+    return pipe.ODMOGenerator(CONFIG, params, stats, bank, pipe.fit_mixtures(bank, 3), facts)
 
 
 def test_mode_counts_follow_the_codes_rounding_and_drop_small_modes():
@@ -95,7 +98,7 @@ def test_conventional_sampling_maps_each_class_to_its_majority_component():
 
 def test_generation_from_codes_returns_the_motion_record_and_steers_by_the_end():
     trained = _trained(_bank())
-    out = pipe.customize_end(trained, TRAINING, trained.bank.codes[0], 0, np.array([[0, 0, 0], [1.0, 0, 2.0]]))
+    out = pipe.customize_end(trained, trained.bank.codes[0], 0, np.array([[0, 0, 0], [1.0, 0, 2.0]]))
     assert out["joints"].shape == (2, 12, 24, 3) and out["lengths"].tolist() == [12, 12]
     np.testing.assert_array_equal(out["translation"], out["joints"][:, :, 0])
     assert not np.allclose(out["trajectory"][0], out["trajectory"][1])  # same code, other end: another path
@@ -109,18 +112,18 @@ def test_generation_from_codes_returns_the_motion_record_and_steers_by_the_end()
 def test_interpolation_runs_from_one_mode_mean_to_the_other():
     trained = _trained(_bank())
     modes = pipe.class_modes(trained.bank, 3, n_init=2)
-    strip = pipe.interpolate_modes(trained, TRAINING, 1, 0, 2, 5, modes)
+    strip = pipe.interpolate_modes(trained, 1, 0, 2, 5, modes)
     means = np.asarray(modes.gmm.means[1])
     np.testing.assert_allclose(strip["codes"][0], means[0], rtol=1e-6)
     np.testing.assert_allclose(strip["codes"][-1], means[2], rtol=1e-5)
     np.testing.assert_allclose(strip["codes"][2], (means[0] + means[2]) / 2, rtol=1e-5, atol=1e-6)
     with pytest.raises(ValueError, match="class 1 has 3 modes"):
-        pipe.interpolate_modes(trained, TRAINING, 1, 0, 3, 5, modes)
+        pipe.interpolate_modes(trained, 1, 0, 3, 5, modes)
 
 
 def test_end_point_trials_measure_the_distance_to_the_requested_end():
     trained = _trained(_bank())
-    result = pipe.end_point_trials(trained, TRAINING, jax.random.key(0), trials=2, points=4)
+    result = pipe.end_point_trials(trained, jax.random.key(0), trials=2, points=4)
     assert result["motions"]["joints"].shape == (3 * 2 * 4, 12, 24, 3)
     final = result["motions"]["joints"][:, -1, 0]
     squared = np.square(final - result["motions"]["ends"]).sum(-1)
@@ -153,12 +156,11 @@ def test_end_response_is_one_when_motions_follow_their_ends_and_zero_when_they_i
 def test_code_bank_holds_unique_codes_in_class_order_with_their_windows_ends():
     data = load_dataset("synth-humanact12", count=24).subset(np.arange(24))
     config = dataclasses.replace(CONFIG, num_classes=12)
-    training = dataclasses.replace(TRAINING, model=config)
     params, stats = init_odmo(jax.random.key(1), config)
-    bank = pipe.code_bank(params, stats, training, data, jax.random.key(2))
+    bank = pipe.code_bank(params, stats, config, data, jax.random.key(2), bank=BANK)
     assert len(np.unique(bank.codes, axis=0)) == len(bank.codes)
     assert np.all(np.diff(bank.actions) >= 0) and set(bank.actions.tolist()) == set(range(12))
     np.testing.assert_array_equal(bank.actions, data.actions[bank.clips])
     np.testing.assert_array_equal(bank.modes, data.modes[bank.clips])
-    again = pipe.code_bank(params, stats, training, data, jax.random.key(2))
+    again = pipe.code_bank(params, stats, config, data, jax.random.key(2), bank=BANK)
     np.testing.assert_array_equal(bank.codes, again.codes)

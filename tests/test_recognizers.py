@@ -16,12 +16,8 @@ from jaxmotion.config import replace_paths
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
 from jaxmotion.evaluation import recognizers
-from jaxmotion.evaluation.recognizers import (
-    EVALUATORS,
-    cache_folder,
-    evaluator_spec,
-    trained_recognizer,
-)
+from jaxmotion.evaluation.recognizers import cache_folder, trained_recognizer
+from jaxmotion.recipes.evaluators import EVALUATORS, evaluator_spec
 from jaxmotion.files import folder_lock
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import SMPL24

@@ -3,18 +3,12 @@
 import numpy as np
 import pytest
 
-from jaxmotion.evaluation.tables import (
-    ACTOR_COLUMNS,
-    fit_rows,
-    interleave_reported,
-    paper_columns,
-    slug,
-    table_dataset,
-)
+from jaxmotion.evaluation.tables import ACTOR_COLUMNS, interleave_reported, paper_columns, slug
+from jaxmotion.recipes.tables import fit_rows, table_dataset
 
 
 class Recorder:
-    """A recipe that records what it was trained with and samples a constant."""
+    """A recipe that records what it was trained with; its generator samples a constant and records its saves."""
 
     def __init__(self, calls, value):
         self.calls, self.value = calls, value
@@ -23,22 +17,36 @@ class Recorder:
         self.calls.append((data, key, workdir, options))
         return self.value
 
-    def sampler(self, params, skeleton):
-        return lambda key, actions, durations: {"params": params, "skeleton": skeleton}
+    def generator(self, params, facts):
+        return Constant(params, facts, self.calls)
+
+
+class Constant:
+    def __init__(self, params, facts, calls):
+        self.params, self.facts, self.calls = params, facts, calls
+
+    def sampler(self):
+        return lambda key, actions, durations: {"params": self.params, "skeleton": self.facts.skeleton}
+
+    def save(self, folder):
+        self.calls.append(("saved", folder))
 
 
 class Data:
-    skeleton = "SMPL-24"
+    skeleton, class_names, fps = "SMPL-24", ("a", "b"), 20
 
 
 def test_every_row_trains_from_the_same_key_in_its_own_folder(tmp_path):
     calls = []
-    samplers = fit_rows({"w/o µ/Σ tokens": Recorder(calls, 1), "GRU": Recorder(calls, 2)}, Data(), "KEY", tmp_path,
-                        mesh="MESH")
-    assert [c[1] for c in calls] == ["KEY", "KEY"]
-    assert [c[2] for c in calls] == [tmp_path / "w-o-tokens", tmp_path / "gru"]
-    assert all(c[3] == {"mesh": "MESH"} for c in calls)
-    assert samplers["GRU"](None, None, None) == {"params": 2, "skeleton": "SMPL-24"}
+    generators = fit_rows({"w/o µ/Σ tokens": Recorder(calls, 1), "GRU": Recorder(calls, 2)}, Data(), "KEY", tmp_path,
+                          mesh="MESH")
+    fits = [c for c in calls if c[0] != "saved"]
+    assert [c[1] for c in fits] == ["KEY", "KEY"]
+    assert [c[2] for c in fits] == [tmp_path / "w-o-tokens", tmp_path / "gru"]
+    assert all(c[3] == {"mesh": "MESH"} for c in fits)
+    # each row's generator is written beside its checkpoints
+    assert [c[1] for c in calls if c[0] == "saved"] == [tmp_path / "w-o-tokens" / "generator", tmp_path / "gru" / "generator"]
+    assert generators["GRU"].sampler()(None, None, None) == {"params": 2, "skeleton": "SMPL-24"}
     with pytest.raises(ValueError, match="distinct folder names"):
         fit_rows({"a b": Recorder([], 0), "a-b": Recorder([], 0)}, Data(), "KEY", tmp_path)
 

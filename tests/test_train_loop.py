@@ -12,7 +12,8 @@ import optax
 import pytest
 from flax.training.train_state import TrainState
 
-from jaxmotion.train import Checkpointer, LoopConfig, MultiState, Progress, data_mesh, train
+from jaxmotion.distributed import data_mesh
+from jaxmotion.train import Checkpointer, LoopConfig, MultiState, Progress, train
 
 
 def _quadratic_state():

@@ -1,8 +1,11 @@
-"""One entry point for the embedded stand-in datasets and the real ones."""
+"""One entry point for the embedded stand-in datasets and the real ones, and the one registry of the paper
+datasets they stand in for (:data:`PAPER_DATASETS`)."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -11,9 +14,43 @@ from jaxmotion.data.motion import MotionDataset
 
 EMBEDDED_PREFIX = "synth-"
 
-#: The paper datasets' sizes, as the papers give them: ``(classes, training clips)``. Their
-#: embedded stand-ins have the same; trainers size the paper profiles (epochs -> steps) from them.
-PAPER_SIZES = {"NTU-13": (13, 3900), "UESTC": (40, 10_650), "HumanAct12": (12, 1200), "MoCap": (7, 970)}
+
+
+@dataclasses.dataclass(frozen=True)
+class PaperDataset:
+    """A dataset of the papers' tables: its name in the papers (``label``), its embedded stand-in, whether its
+    tables score against a test split too (``FID_test``) and, where the papers give it, the number of training
+    clips (the paper profiles turn epochs into steps with it)."""
+
+    label: str
+    stand_in: str
+    test_split: bool = False
+    clips: int | None = None
+
+    @property
+    def num_classes(self) -> int:
+        return len(synthetic.VARIANTS[self.stand_in].classes)
+
+
+#: The paper datasets by their papers' names -> their stand-ins (ACTOR's and ODMO's, then ActFormer's).
+PAPER_DATASETS: MappingProxyType[str, PaperDataset] = MappingProxyType({d.label: d for d in (
+    PaperDataset("NTU-13", "synth-ntu13", clips=3900),
+    PaperDataset("UESTC", "synth-uestc", test_split=True, clips=10_650),
+    PaperDataset("HumanAct12", "synth-humanact12", clips=1200),
+    PaperDataset("MoCap", "synth-cmu", clips=970),
+    PaperDataset("NTURecon-1P", "synth-ntu1p-smpl"),
+    PaperDataset("NTU-1P", "synth-ntu1p"),
+    PaperDataset("BABEL", "synth-babel120"),
+    PaperDataset("NTU-2P", "synth-ntu2p"),
+    *(PaperDataset(f"Combat {p}P", f"synth-combat-{p}p") for p in range(2, 6)),
+)})
+
+
+def paper_dataset(label: str) -> PaperDataset:
+    """The paper dataset ``label``, or a ``ValueError`` listing the labels."""
+    if label not in PAPER_DATASETS:
+        raise ValueError(f"label: expected one of {', '.join(PAPER_DATASETS)}, got {label!r}")
+    return PAPER_DATASETS[label]
 
 
 def dataset_names() -> dict[str, tuple[str, ...]]:

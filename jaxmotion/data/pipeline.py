@@ -29,6 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.distributed import DATA_AXIS, gather, shard_batch
 from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
 from jaxmotion.geometry.rotations import (
     axis_angle_to_matrix,
@@ -383,19 +384,13 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any
     the host. The last chunk is padded by repeating its last row, so ``fn`` sees one shape (one
     compilation); the padding's outputs are dropped.
 
-    ``mesh``: a data mesh (:func:`jaxmotion.train.mesh.data_mesh`); each chunk is then split along its rows
+    ``mesh``: a data mesh (:func:`jaxmotion.distributed.data_mesh`); each chunk is then split along its rows
     over the mesh's devices (``size`` rounded up to a multiple of the device count), and the outputs are
     gathered from every device (and process) before they are concatenated. ``None``: one device."""
     total = jax.tree.leaves(rows)[0].shape[0]
     size = min(size, total)
     place, fetch = (lambda part: part), np.asarray
     if mesh is not None:
-        from jaxmotion.train.mesh import (  # the loop's module; imported lazily
-            DATA_AXIS,
-            gather,
-            shard_batch,
-        )
-
         devices = mesh.shape[DATA_AXIS]
         size = -(-size // devices) * devices
         place, fetch = (lambda part: shard_batch(part, mesh)), gather

@@ -50,6 +50,7 @@ import numpy as np
 from jax.sharding import Mesh
 
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.distributed import replicate
 from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks, tiled_windows
 from jaxmotion.metrics.apd import n_apd
 from jaxmotion.metrics.classification import accuracy, confusion_matrix, mean_class_recall
@@ -129,8 +130,6 @@ def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: in
     one shape) and concatenate; chunk i uses ``fold_in(key, i)``. ``mesh``: split each chunk over a data
     mesh's devices (:func:`jaxmotion.data.pipeline.map_in_chunks`); ``None``: one device."""
     if mesh is not None:
-        from jaxmotion.train.mesh import replicate
-
         key = replicate(key, mesh)
 
     def sample(i, part):

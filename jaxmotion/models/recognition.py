@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.distributed import replicate
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.representations import actformer_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
@@ -305,7 +306,7 @@ class Recognizer:
     ``motions`` is a mapping as :func:`recognizer_inputs` reads it (the pipeline's batches and the
     generators' outputs are such mappings), with an optional ``lengths [B]``. Large sets are processed in
     chunks of ``chunk`` sequences (one shape, one compilation). ``mesh``: a data mesh
-    (:func:`jaxmotion.train.mesh.data_mesh`) over whose devices each chunk is split, the variables
+    (:func:`jaxmotion.distributed.data_mesh`) over whose devices each chunk is split, the variables
     replicated on it; ``None``: one device.
     """
 
@@ -330,8 +331,6 @@ class Recognizer:
         if self.mesh is None:
             object.__setattr__(self, "_variables", self.variables)
         else:
-            from jaxmotion.train.mesh import replicate  # the loop's module; imported lazily
-
             object.__setattr__(self, "_variables", replicate(self.variables, self.mesh))
 
     def reading(self, skeleton: Skeleton) -> Recognizer:

@@ -1,11 +1,14 @@
-"""Action2Motion's GRU VAE (:mod:`jaxmotion.models.a2m`) put to use: its sampler for the evaluation protocol.
+"""Action2Motion's GRU VAE (:mod:`jaxmotion.models.a2m`) put to use: its sampler for the evaluation protocol, and
+:class:`A2MGenerator`, a trained model as an artefact (:mod:`jaxmotion.pipelines.artefacts`).
 
 Axes: N motions, T frames, J joints, F = J·3.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -14,7 +17,8 @@ import numpy as np
 from jaxmotion.data.pipeline import window_frames
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.data.labels import check_actions, check_durations
-from jaxmotion.models.a2m import A2MVAEConfig, A2MVAEParams, a2m_generate
+from jaxmotion.models.a2m import A2MVAEConfig, A2MVAEParams, a2m_generate, init_a2m_vae
+from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, save_artefact
 
 
 @functools.partial(jax.jit, static_argnames=("frames", "config"))
@@ -62,3 +66,27 @@ def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
                 "actions": actions}
 
     return sampler
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class A2MGenerator(SamplingGenerator):
+    """A trained Action2Motion GRU VAE: its model, parameters, the data facts and ``frames`` (the window it
+    trained on, the default duration)."""
+
+    model: A2MVAEConfig
+    params: A2MVAEParams
+    facts: DataFacts
+    frames: int = 60
+    method = "a2m"
+
+    def sampler(self):
+        return a2m_sampler(self.params, self.model, self.skeleton)
+
+    def save(self, folder: str | Path) -> Path:
+        return save_artefact(folder, self.method, self.model, self.facts, {"params": self.params},
+                             {"frames": self.frames})
+
+    @classmethod
+    def load(cls, artefact: Artefact) -> A2MGenerator:
+        template = jax.eval_shape(init_a2m_vae, jax.random.key(0), artefact.model)
+        return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

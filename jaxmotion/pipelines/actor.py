@@ -1,6 +1,8 @@
 """ACTOR put to use (Petrovich et al. 2021, §4.2, §4.4): generation, denoising, interpolation (Figure 5's
 picture: :func:`jaxmotion.pipelines.pictures.generation_grid` on :func:`actor_sampler`).
 
+* :class:`ActorGenerator`: a trained ACTOR as an artefact (:mod:`jaxmotion.pipelines.artefacts`): saved beside a
+  run's checkpoints, loaded by :func:`jaxmotion.load_generator`, generating motions placed on the floor.
 * :func:`generate_motions`: z ~ N(0, I) decoded with an action for a duration of its own (variable-length
   generation), returned as a packed :class:`~jaxmotion.data.motion.MotionDataset` without padding.
 * :func:`denoise`: use case I, encode a motion with its true action and decode the posterior mean
@@ -26,8 +28,10 @@ d model width (the size of z), S interpolation steps, K classes.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from collections.abc import Sequence
+from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -51,10 +55,12 @@ from jaxmotion.models.actor import (
     AnyActorParams,
     decode,
     encode,
+    init_actor,
     length_mask,
     motions_from_features,
     to_features,
 )
+from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, save_artefact
 
 _FIELDS = ("joints", "rotations", "translation")
 
@@ -409,3 +415,27 @@ def real_plus_generated(real: MotionDataset, generated: MotionDataset) -> Motion
     """Real and generated motions, the real ones repeated so that a batch draws about as many of each."""
     copies = max(1, round(len(generated) / len(real)))
     return concatenate([real] * copies + [generated], split="train")
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ActorGenerator(SamplingGenerator):
+    """A trained ACTOR: its model, parameters, the data facts, and ``frames`` (the length it trained on, the
+    default duration)."""
+
+    model: ActorConfig
+    params: AnyActorParams
+    facts: DataFacts
+    frames: int = 60
+    method = "actor"
+
+    def sampler(self):
+        return actor_sampler(self.params, self.model, self.skeleton)
+
+    def save(self, folder: str | Path) -> Path:
+        return save_artefact(folder, self.method, self.model, self.facts, {"params": self.params},
+                             {"frames": self.frames})
+
+    @classmethod
+    def load(cls, artefact: Artefact) -> ActorGenerator:
+        template = jax.eval_shape(init_actor, jax.random.key(0), artefact.model)
+        return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

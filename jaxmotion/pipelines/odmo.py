@@ -18,6 +18,9 @@ nearest real code, interpolation between modes and trajectory customisation by a
   the paper says "KNN").
 * :func:`generate_from_codes`, :func:`sample_motions`, :func:`odmo_sampler`: motions from codes, classes and
   end points; the evaluation protocol's sampler.
+* :class:`ODMOGenerator`: a trained ODMO (parameters, the encoder's running statistics, the code bank and the
+  mixtures its sampler draws from) as an artefact (:mod:`jaxmotion.pipelines.artefacts`); every function below
+  that generates takes one.
 * :func:`interpolate_modes`: codes on the segment between two modes' means, decoded (Figure 3's strip).
 * :func:`customize_end`: one code sent to many end points (or many codes to one), Figure 4;
   :func:`end_point_trials`: Table 4's population test (dist_e, the hit rate at 10% of the distance).
@@ -28,7 +31,7 @@ root joint's path), ``mask [N, T]``, ``lengths [N]``, ``actions [N]``, plus ``co
 and, where they come from mixtures, ``components [N]``; :func:`jaxmotion.data.motion.to_dataset` packs one.
 Every function takes its randomness from an explicit key.
 
-Where this differs from the code: the mixtures are fitted once per sampler (the code refits them in each of
+Where this differs from the code: the mixtures are fitted once per generator (the code refits them in each of
 its 10 evaluation repetitions, from fresh code draws), and the bank is drawn once per trained model.
 
 Axes: N motions or codes, T frames, J joints, Z code, C classes, K mixture components.
@@ -38,7 +41,8 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import NamedTuple
+from pathlib import Path
+from typing import Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -47,7 +51,6 @@ import numpy as np
 from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, gather_windows, map_in_chunks, sample_sequences, sequence_weights
-from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.metrics.apd import mode_homogeneity
 from jaxmotion.metrics.clustering import adjusted_rand_index
 from jaxmotion.metrics.trajectory import end_point_error, end_point_hit_rate, end_point_squared_error
@@ -61,10 +64,49 @@ from jaxmotion.mixtures import (
     gmm_predict,
     sample_components,
 )
-from jaxmotion.models.odmo import ODMOConfig, ODMOParams, ODMOStats, encode, flatten_poses, generate, unflatten_poses
+from jaxmotion.models.odmo import (
+    ODMOConfig,
+    ODMOParams,
+    ODMOStats,
+    encode,
+    flatten_poses,
+    generate,
+    init_odmo,
+    unflatten_poses,
+)
+from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, save_artefact
 
 MIN_MODE_SIZE = 10  # the code gives no samples to components holding this many codes or fewer
 GMM_SEED = 0  # the code's random_state
+
+
+@dataclasses.dataclass(frozen=True)
+class CodeBankConfig:
+    """How many real windows the samplers' code bank encodes: ``passes`` × ``draws`` class-balanced draws
+    (the code: passes over its training loader of 2 048 draws; MoCap 5, HumanAct12 15, UESTC 8), exact
+    duplicates dropped (a clip no longer than the window always gives the same window)."""
+
+    passes: int = 15
+    draws: int = 2048
+
+    def __post_init__(self):
+        if self.passes < 1 or self.draws < 1:
+            raise ValueError(f"CodeBankConfig: passes and draws must be >= 1, got {self.passes}, {self.draws}")
+
+
+@dataclasses.dataclass(frozen=True)
+class ModeDiscovery:
+    """How the samplers find each class's modes (:func:`jaxmotion.mixtures.discover_modes_batched`): the
+    silhouette ``rule`` (``"code"``: k 3..9, the authors' code; ``"paper"``: k 3..11) and the GMM restarts."""
+
+    rule: Literal["code", "paper"] = "code"
+    n_init: int = 5
+
+    def __post_init__(self):
+        if self.rule not in ("code", "paper"):
+            raise ValueError(f"ModeDiscovery.rule: expected 'code' or 'paper', got {self.rule!r}")
+        if self.n_init < 1:
+            raise ValueError(f"ModeDiscovery.n_init: expected >= 1, got {self.n_init}")
 
 
 class CodeBank(NamedTuple):
@@ -95,14 +137,14 @@ def encode_windows(params: ODMOParams, stats: ODMOStats, config: ODMOConfig, joi
     return map_in_chunks(lambda _, part: _encode_rows(params, stats, jnp.asarray(part), config), joints, chunk)
 
 
-def code_bank(params: ODMOParams, stats: ODMOStats, training, data: MotionDataset, key: jax.Array) -> CodeBank:
-    """The codes of ``training.bank.passes × training.bank.draws`` class-balanced random windows of ``data``
-    (``training``: an :class:`~jaxmotion.train.odmo.ODMOTraining`), duplicates dropped, in class order."""
-    config = training.model
+def code_bank(params: ODMOParams, stats: ODMOStats, config: ODMOConfig, data: MotionDataset, key: jax.Array, *,
+              bank: CodeBankConfig = CodeBankConfig(), canonical: bool = True) -> CodeBank:
+    """The codes of ``bank.passes × bank.draws`` class-balanced random windows of ``data`` (in the canonical
+    frame, or only moved to the origin: the training windows' frame), duplicates dropped, in class order."""
     k_ids, k_windows = jax.random.split(key)
     weights = sequence_weights(jnp.asarray(data.actions), data.num_classes, "balanced")
-    ids = np.asarray(sample_sequences(k_ids, weights, training.bank.passes * training.bank.draws))
-    spec = BatchSpec(batch_size=1, window=config.num_frames, canonical=training.canonical)
+    ids = np.asarray(sample_sequences(k_ids, weights, bank.passes * bank.draws))
+    spec = BatchSpec(batch_size=1, window=config.num_frames, canonical=canonical)
     windows = gather_windows(data, ids, k_windows, spec)
     codes = encode_windows(params, stats, config, windows["joints"])
     _, first = np.unique(codes, axis=0, return_index=True)
@@ -290,41 +332,92 @@ def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, 
             "trajectory": out["trajectory"]}
 
 
-def mixtures_for(trained, training) -> ModesBatch | Conventional:
-    """The mixtures ``training.sampling`` draws codes from (``trained``: an :class:`~jaxmotion.train.odmo.ODMOFit`)."""
-    classes = training.model.num_classes
-    if training.sampling == "conventional":
-        return conventional_mixture(trained.bank, classes)
-    return class_modes(trained.bank, classes, rule=training.modes.rule, n_init=training.modes.n_init)
+Sampling = Literal["modes", "conventional"]
 
 
-def sample_motions(trained, training, key: jax.Array, actions, *, mixtures: ModesBatch | Conventional | None = None
-                   ) -> dict[str, np.ndarray]:
-    """ODMO's generation: codes for ``actions [N]`` from the mixtures (default :func:`mixtures_for`), each
-    code's end point from the nearest real code, decoded. Adds ``components [N]``."""
+def fit_mixtures(bank: CodeBank, num_classes: int, sampling: Sampling = "modes",
+                 modes: ModeDiscovery = ModeDiscovery()) -> ModesBatch | Conventional:
+    """The mixtures a sampler draws codes from: each class's modes (``"modes"``, ODMO) or the one C-component
+    mixture (``"conventional"``, ODMO_conv)."""
+    if sampling == "conventional":
+        return conventional_mixture(bank, num_classes)
+    if sampling != "modes":
+        raise ValueError(f"sampling: expected 'modes' or 'conventional', got {sampling!r}")
+    return class_modes(bank, num_classes, rule=modes.rule, n_init=modes.n_init)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ODMOGenerator(SamplingGenerator):
+    """A trained ODMO: model, parameters, the encoder's running statistics (``buffers``), the code bank of real
+    training windows, the mixtures its sampler draws codes from (:func:`fit_mixtures`) and the data facts."""
+
+    model: ODMOConfig
+    params: ODMOParams
+    buffers: ODMOStats
+    bank: CodeBank
+    mixtures: ModesBatch | Conventional
+    facts: DataFacts
+    method = "odmo"
+
+    def __post_init__(self):
+        if self.model.num_joints != self.facts.skeleton.num_joints:
+            raise ValueError(f"skeleton: the model has {self.model.num_joints} joints, {self.facts.skeleton.name} "
+                             f"has {self.facts.skeleton.num_joints}")
+
+    @property
+    def frames(self) -> int:
+        return self.model.num_frames
+
+    def sampler(self):
+        return odmo_sampler(self)
+
+    def save(self, folder: str | Path) -> Path:
+        conventional = isinstance(self.mixtures, Conventional)
+        mixtures = (self.mixtures if conventional
+                    else self.mixtures._replace(ks=()))  # the ks are settings, not arrays
+        settings = {"mixtures": "conventional" if conventional else "modes",
+                    **({} if conventional else {"ks": list(self.mixtures.ks)})}
+        return save_artefact(folder, self.method, self.model, self.facts,
+                             {"params": self.params, "buffers": self.buffers, "bank": self.bank,
+                              "mixtures": mixtures}, settings)
+
+    @classmethod
+    def load(cls, artefact: Artefact) -> ODMOGenerator:
+        params, buffers = jax.eval_shape(init_odmo, jax.random.key(0), artefact.model)
+        bank = artefact.tree("bank", CodeBank(*[0] * len(CodeBank._fields)))
+        gmm = GaussianMixture(*[0] * len(GaussianMixture._fields))
+        if artefact.settings["mixtures"] == "conventional":
+            mixtures = artefact.tree("mixtures", Conventional(gmm, 0))
+        else:
+            mixtures = artefact.tree("mixtures", ModesBatch(0, gmm, 0, 0, ()))._replace(
+                ks=tuple(artefact.settings["ks"]))
+        return cls(artefact.model, artefact.tree("params", params), artefact.tree("buffers", buffers), bank, mixtures,
+                   artefact.facts)
+
+
+def sample_motions(generator: ODMOGenerator, key: jax.Array, actions, *,
+                   mixtures: ModesBatch | Conventional | None = None) -> dict[str, np.ndarray]:
+    """ODMO's generation: codes for ``actions [N]`` from the mixtures (default: the generator's), each code's
+    end point from the nearest real code, decoded. Adds ``components [N]``."""
     actions = np.asarray(actions)
-    check_actions(actions, training.model.num_classes)
-    mixtures = mixtures_for(trained, training) if mixtures is None else mixtures
-    codes, components = sample_codes(key, actions, mixtures)
-    ends = nearest_ends(trained.bank, codes, actions)
-    return {**generate_from_codes(trained.params, training.model, codes, actions, ends), "components": components}
+    check_actions(actions, generator.model.num_classes)
+    codes, components = sample_codes(key, actions, generator.mixtures if mixtures is None else mixtures)
+    ends = nearest_ends(generator.bank, codes, actions)
+    return {**generate_from_codes(generator.params, generator.model, codes, actions, ends), "components": components}
 
 
-def odmo_sampler(trained, training, skeleton: Skeleton):
-    """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions``: the mixtures are
-    fitted once, here; every call draws codes and decodes them (:func:`sample_motions`). ODMO generates
-    ``training.model.num_frames`` frames: other durations are refused."""
-    config = training.model
-    if config.num_joints != skeleton.num_joints:
-        raise ValueError(f"skeleton: the model has {config.num_joints} joints, {skeleton.name} has {skeleton.num_joints}")
-    mixtures = mixtures_for(trained, training)
+def odmo_sampler(generator: ODMOGenerator):
+    """The evaluation protocol's sampler ``(key, actions [N], durations [N]) -> motions``: every call draws
+    codes from the generator's mixtures and decodes them (:func:`sample_motions`). ODMO generates
+    ``model.num_frames`` frames: other durations are refused."""
+    frames = generator.model.num_frames
 
     def sampler(key, actions, durations):
         check_durations(durations, len(actions))
         durations = np.asarray(durations)
-        if np.any(durations != config.num_frames):
-            raise ValueError(f"durations: ODMO generates {config.num_frames} frames; got {sorted(set(durations.tolist()))}")
-        out = sample_motions(trained, training, key, actions, mixtures=mixtures)
+        if np.any(durations != frames):
+            raise ValueError(f"durations: ODMO generates {frames} frames; got {sorted(set(durations.tolist()))}")
+        out = sample_motions(generator, key, actions)
         return {k: out[k] for k in ("joints", "translation", "mask", "lengths", "actions")}
 
     return sampler
@@ -333,11 +426,14 @@ def odmo_sampler(trained, training, skeleton: Skeleton):
 # ---------------------------------------------------------------------------------------------- customisation
 
 
-def interpolate_modes(trained, training, action: int, mode_a: int, mode_b: int, steps: int,
+def interpolate_modes(generator: ODMOGenerator, action: int, mode_a: int, mode_b: int, steps: int,
                       modes: ModesBatch | None = None) -> dict[str, np.ndarray]:
     """Figure 3's strip: ``steps`` codes evenly spaced from mode ``mode_a``'s mean to ``mode_b``'s (of class
-    ``action``), each with its nearest real end point, decoded; adds ``weights [steps]`` (0 at ``mode_a``)."""
-    modes = mixtures_for(trained, dataclasses.replace(training, sampling="modes")) if modes is None else modes
+    ``action``), each with its nearest real end point, decoded; adds ``weights [steps]`` (0 at ``mode_a``).
+    ``modes``: default the generator's mixtures when they are modes, else each class's modes fitted now."""
+    if modes is None:
+        modes = (generator.mixtures if isinstance(generator.mixtures, ModesBatch)
+                 else fit_mixtures(generator.bank, generator.model.num_classes))
     k = int(modes.k[action])
     if not (0 <= mode_a < k and 0 <= mode_b < k):
         raise ValueError(f"mode_a, mode_b: class {action} has {k} modes (0..{k - 1}), got {mode_a}, {mode_b}")
@@ -347,21 +443,22 @@ def interpolate_modes(trained, training, action: int, mode_a: int, mode_b: int, 
     weights = np.linspace(0.0, 1.0, steps, dtype=np.float32)
     codes = (1 - weights[:, None]) * means[mode_a] + weights[:, None] * means[mode_b]
     actions = np.full(steps, action, np.int32)
-    out = generate_from_codes(trained.params, training.model, codes, actions, nearest_ends(trained.bank, codes, actions))
+    out = generate_from_codes(generator.params, generator.model, codes, actions,
+                              nearest_ends(generator.bank, codes, actions))
     return {**out, "weights": weights}
 
 
-def customize_end(trained, training, codes, action: int, ends) -> dict[str, np.ndarray]:
+def customize_end(generator: ODMOGenerator, codes, action: int, ends) -> dict[str, np.ndarray]:
     """Figure 4: motions of class ``action`` that should end at ``ends [N, 3]``; ``codes`` ``[N, Z]``, or one
     code ``[Z]`` sent to every end (one style, many destinations)."""
     ends = np.asarray(ends, np.float32)
     codes = np.asarray(codes, np.float32)
     if codes.ndim == 1:
         codes = np.broadcast_to(codes, (len(ends), codes.shape[0]))
-    return generate_from_codes(trained.params, training.model, codes, np.full(len(ends), action, np.int32), ends)
+    return generate_from_codes(generator.params, generator.model, codes, np.full(len(ends), action, np.int32), ends)
 
 
-def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, points: int = 10,
+def end_point_trials(generator: ODMOGenerator, key: jax.Array, *, trials: int = 40, points: int = 10,
                      threshold: float = 0.1) -> dict[str, np.ndarray]:
     """Table 4's test (OD ``trajectory_customization.py``): per class, ``trials`` times, a random real code
     of the class and ``points`` end points evenly spaced from that window's own end root to the end root of
@@ -375,7 +472,7 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
     and two diagnostics of where the error comes from: ``path_end_error`` (``end_error`` of the trajectory
     generator's path instead of the motion's root, m) and ``end_response`` (:func:`end_response` of the
     motions' final roots: 1 when they move with the requested end, 0 when they ignore it)."""
-    bank, config = trained.bank, training.model
+    bank, config = generator.bank, generator.model
     codes, ends, actions = [], [], []
     for c in range(config.num_classes):
         rows = bank.of_class(c)
@@ -386,7 +483,7 @@ def end_point_trials(trained, training, key: jax.Array, *, trials: int = 40, poi
         codes.append(np.repeat(bank.codes[source], points, axis=0))
         actions.append(np.full(trials * points, c, np.int32))
     codes, ends, actions = np.concatenate(codes), np.concatenate(ends), np.concatenate(actions)
-    motions = generate_from_codes(trained.params, config, codes, actions, ends)
+    motions = generate_from_codes(generator.params, config, codes, actions, ends)
     joints, classes = jnp.asarray(motions["joints"]), config.num_classes
     squared = np.asarray(end_point_squared_error(joints, ends))
     path_distance = np.linalg.norm(motions["trajectory"][:, -1] - ends, axis=-1)

@@ -4,7 +4,8 @@ recurrent baseline of ACTOR's Table 3.
 :class:`A2MTraining` holds the model, the authors' optimiser (:class:`~jaxmotion.models.a2m.A2MOptimizer`),
 batch size, clip length (``window``) and the loop (steps, logging, checkpoints); :func:`train_a2m` fits the
 model with :func:`~jaxmotion.train.fit.fit` (jitted step, ``fold_in(key, step)`` randomness, orbax
-checkpoints, resume). Its protocol sampler is :func:`jaxmotion.pipelines.a2m.a2m_sampler`.
+checkpoints, resume). Its generator is :class:`jaxmotion.pipelines.a2m.A2MGenerator`; its table rows and
+profile sizes are in :mod:`jaxmotion.recipes.a2m`.
 
 Data as Action2Motion reads it: ``window``-frame windows of joint positions, flattened joint-major to
 ``F = J·3`` per frame; clips shorter than the window are padded by repeating their last frame and the loss
@@ -21,16 +22,12 @@ Axes: B batch, N motions, T frames, J joints, F = J·3.
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
 
 import jax
 import jax.numpy as jnp
-from flax.training.train_state import TrainState
 
-from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec
-from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.models.a2m import (
     A2MOptimizer,
     A2MVAEConfig,
@@ -39,9 +36,9 @@ from jaxmotion.models.a2m import (
     a2m_vae_loss,
     init_a2m_vae,
 )
-from jaxmotion.pipelines.a2m import a2m_sampler
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
+from jaxmotion.train.state import TrainState
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,13 +63,6 @@ class A2MTraining:
     def batch(self) -> BatchSpec:
         return BatchSpec(batch_size=self.batch_size, window=self.window, canonical=self.canonical)
 
-    # as a table row (jaxmotion.evaluation.tables.Recipe)
-    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options):
-        return train_a2m(data, self, key, workdir, **loop_options)
-
-    def sampler(self, params: A2MVAEParams, skeleton: Skeleton):
-        return a2m_sampler(params, self.model, skeleton)
-
 
 def _check_data(training: A2MTraining, data: MotionDataset) -> None:
     model, joints = training.model, data.persons * data.skeleton.num_joints
@@ -95,8 +85,7 @@ def train_a2m(data: MotionDataset, training: A2MTraining, key: jax.Array, workdi
 
 def a2m_state(training: A2MTraining, key: jax.Array) -> TrainState:
     """Fresh parameters and the authors' Adam state for ``training``."""
-    return TrainState.create(apply_fn=None, params=init_a2m_vae(key, training.model),
-                             tx=a2m_optimizer(training.optimizer))
+    return TrainState.create(init_a2m_vae(key, training.model), a2m_optimizer(training.optimizer))
 
 
 def a2m_step(config: A2MVAEConfig):
@@ -110,22 +99,6 @@ def a2m_step(config: A2MVAEConfig):
             joints = jnp.moveaxis(joints, 1, 2)
         poses = joints.reshape(*joints.shape[:2], -1)
         grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(state.params, key, poses, batch["actions"], config)
-        return state.apply_gradients(grads=grads), metrics
+        return state.apply_gradients(grads), metrics
 
     return step_fn
-
-
-def a2m_table_training(label: str, profile: str) -> A2MTraining:
-    """Action2Motion as a table row on the embedded stand-in of the paper dataset ``label`` (24 joints; ACTOR's
-    Table 3, ODMO's Table 1) in ``profile``: the released xyz configuration (paper), the same sizes for 900
-    iterations at batch 64 (cpu), a tiny model (smoke)."""
-    classes = PAPER_SIZES[label][0]
-    window = 100 if label == "MoCap" else 60
-    if profile == "smoke":
-        model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, hidden=8, latent=4, decoder_layers=1,
-                             time_counter=False)
-        return A2MTraining(model, LoopConfig(2, log_every=2, checkpoint_every=0), batch_size=8, window=window)
-    model = A2MVAEConfig(pose_dim=72, num_classes=classes, kl_weight=1e-4, time_counter=False)
-    if profile == "cpu":
-        return A2MTraining(model, LoopConfig(900, log_every=100, checkpoint_every=300), batch_size=64, window=window)
-    return A2MTraining(model, LoopConfig(50_000, log_every=100, checkpoint_every=5000), window=window)

@@ -13,7 +13,7 @@ persons (``"concat"``, the code) or on each person with its features pooled (Tab
 
 The generator is ActFormer's Transformer (:class:`~jaxmotion.models.actformer.GeneratorConfig`) or the
 graph-convolution one of CSGN and of Table 3's row (2) (:class:`~jaxmotion.models.csgn.CSGNConfig`,
-:func:`csgn_table_training`): one recipe trains either, against the same critic (:func:`generator_network`
+:func:`~jaxmotion.recipes.actformer.csgn_table_training`): one recipe trains either, against the same critic (:func:`generator_network`
 picks the functions; the generator's ``buffers`` are its spectral-norm vectors or its BatchNorm statistics).
 The critic is spectrally normalised on every layer, as the authors' always is.
 
@@ -24,9 +24,8 @@ vectors) or ``smpl`` (rot6d of 24 joints + the translation de-meaned over the wi
 code's persons stay in their stored order (the datasets hold swapped copies); ``permute_persons`` shuffles them
 per window, the paper's choice. ``sampling="sqrt"``: BABEL's square-root class resampling.
 
-As a table row (:class:`~jaxmotion.evaluation.tables.Recipe`): ``fit`` returns an
-:class:`~jaxmotion.pipelines.actformer.ActFormerFit`, ``sampler`` the protocol's sampler
-(:mod:`jaxmotion.pipelines.actformer`).
+Its generator is :class:`jaxmotion.pipelines.actformer.ActFormerGenerator`; its table rows and profile sizes
+are in :mod:`jaxmotion.recipes.actformer`.
 
 Axes: N critic steps, B batch, P persons, T frames, V joints, C channels.
 """
@@ -41,19 +40,14 @@ import jax
 import jax.numpy as jnp
 import optax
 
-from jaxmotion.data import synthetic
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, Sampling
 from jaxmotion.geometry.representations import actformer_features
-from jaxmotion.geometry.skeletons import SMPL24, Skeleton
-from jaxmotion.models import actformer as actformer_generator
-from jaxmotion.models import csgn
 from jaxmotion.models.actformer import GeneratorConfig
+from jaxmotion.models.actformer_prior import ActFormerModel, generator_network, latent_factors, sample_latents
 from jaxmotion.models.actformer_critic import CriticConfig, CriticGraphs, critic, init_critic
 from jaxmotion.models.csgn import CSGNConfig
-from jaxmotion.nn.gp_prior import gp_factors, length_scales, sample_gp, white_factors
 from jaxmotion.nn.graph_coarsening import critic_adjacency
-from jaxmotion.pipelines.actformer import ActFormerFit, actformer_sampler, fit_of
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.state import MultiState
@@ -104,37 +98,10 @@ class ActFormerTraining:
         return BatchSpec(batch_size=self.n_critic * self.batch_size, window=self.generator.frames, padding="snake",
                          canonical=False, sampling=self.sampling, permute_persons=self.permute_persons)
 
-    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options
-            ) -> ActFormerFit:
-        return fit_of(train_actformer(data, self, key, workdir, **loop_options), data)
-
-    def sampler(self, trained: ActFormerFit, skeleton: Skeleton):
-        return actformer_sampler(trained, self, skeleton)
-
-
-def generator_network(config: GeneratorConfig | CSGNConfig):
-    """The module holding ``config``'s generator: ``init_generator(key, config) -> (params, buffers)`` and
-    ``generate(config, params, buffers, z, labels, *, train) -> (motion, buffers)``."""
-    if isinstance(config, CSGNConfig):
-        return csgn
-    if isinstance(config, GeneratorConfig):
-        return actformer_generator
-    raise ValueError(f"generator: expected a GeneratorConfig or a CSGNConfig, got {type(config).__name__}")
-
-
-def latent_factors(training: ActFormerTraining) -> jax.Array:
-    g = training.generator
-    if training.prior == "gaussian":
-        return jnp.asarray(white_factors(g.frames, g.latent))
-    return jnp.asarray(gp_factors(g.frames, length_scales(g.latent, training.length_scale)))
-
-
-def sample_latents(training: ActFormerTraining, factors: jax.Array, key: jax.Array, batch: int) -> jax.Array:
-    """``[B, T, Z]`` (shared by the persons) or ``[B, P, T, Z]`` (``shared_z=False``)."""
-    g = training.generator
-    if training.shared_z or g.persons == 1:
-        return sample_gp(key, factors, batch)
-    return sample_gp(key, factors, batch * g.persons).reshape(batch, g.persons, g.frames, g.latent)
+    @property
+    def model(self) -> ActFormerModel:
+        """The generator and its latent prior: what generation needs besides the weights."""
+        return ActFormerModel(self.generator, self.prior, self.length_scale, self.shared_z)
 
 
 def motion_features(batch: dict[str, jax.Array], generator: GeneratorConfig, parents: tuple[int, ...]) -> jax.Array:
@@ -170,13 +137,13 @@ def actformer_step(training: ActFormerTraining, graphs: CriticGraphs, parents: t
     """The loop's step function ``(state, batch, key) -> (state, metrics)``."""
     g_cfg, c_cfg = training.generator, training.critic
     generate = generator_network(g_cfg).generate
-    factors = latent_factors(training)
+    factors = latent_factors(training.model)
     b = training.batch_size
 
     def fakes(g_params, g_sn, key):
         k_z, k_y = jax.random.split(key)
         labels = jax.random.randint(k_y, (b,), 0, g_cfg.num_classes)
-        motion, g_sn = generate(g_cfg, g_params, g_sn, sample_latents(training, factors, k_z, b), labels, train=True)
+        motion, g_sn = generate(g_cfg, g_params, g_sn, sample_latents(training.model, factors, k_z, b), labels, train=True)
         return motion, labels, g_sn
 
     def step(state: MultiState, batch: dict[str, jax.Array], key: jax.Array):
@@ -235,64 +202,3 @@ def train_actformer(data: MotionDataset, training: ActFormerTraining, key: jax.A
     return fit(data, key, init_state=lambda k: actformer_state(training, graphs, k),
                step_fn=actformer_step(training, graphs, parents), batch=training.batch, loop=training.loop,
                workdir=workdir, progress=progress, **loop_options)
-
-
-
-#: ActFormer's data per embedded stand-in: (generator joints, output, class sampling); persons and classes
-#: come from the data. NTU-13's stand-in holds SMPL-24 joints, trained as limbs like NTU's skeletons; the SMPL
-#: sets add the translation as a 25th node; BABEL resamples classes by the square root of their counts; GTA
-#: Combat's 22 joints are limbs too (width 8 · 22 = 176, as the authors' GTA configs).
-ACTFORMER_DATA = {"synth-ntu13": (24, "skeleton", "epoch"), "synth-ntu1p": (25, "skeleton", "epoch"),
-                  "synth-ntu1p-smpl": (25, "smpl", "epoch"), "synth-babel120": (25, "smpl", "sqrt"),
-                  "synth-ntu2p": (25, "skeleton", "epoch"),
-                  **{f"synth-combat-{p}p": (22, "skeleton", "epoch") for p in range(2, 6)}}
-#: The code's length: 500 epochs of the train split, an epoch being one pass of 64-clip batches through the
-#: critic (4 per generator step).
-PAPER_EPOCHS = 500
-
-
-def actformer_table_training(dataset: str, profile: str) -> ActFormerTraining:
-    """ActFormer as a table row on the embedded ``dataset`` (a key of :data:`ACTFORMER_DATA`) in ``profile``.
-
-    paper: the authors' configs (``config/generator/*``: width 8 per joint, depth 2, 8 heads, critic base 32,
-    batch 64, :data:`PAPER_EPOCHS` epochs of the stand-in's train split; for real data set ``loop.steps`` to
-    500 epochs of it). cpu: the same generator, a critic of base 8 and batches of 16, 2 000 generator steps (at
-    the paper's critic and batch a step takes about 3 s on 2 cores, 1.7 h for 2 000; ``benchmarks/RESULTS.md``).
-    smoke: a few steps of a tiny model."""
-    if dataset not in ACTFORMER_DATA:
-        raise ValueError(f"dataset: expected one of {sorted(ACTFORMER_DATA)}, got {dataset!r}")
-    variant = synthetic.VARIANTS[dataset]
-    joints, output, sampling = ACTFORMER_DATA[dataset]
-    generator = GeneratorConfig(num_classes=len(variant.classes), joints=joints, channels=6 if output == "smpl" else 3,
-                                persons=variant.persons, output=output)
-    common = dict(generator=generator, sampling=sampling)
-    if profile == "smoke":
-        tiny = dataclasses.replace(generator, width_per_joint=4, depth=1, heads=4)
-        return ActFormerTraining(**{**common, "generator": tiny}, loop=LoopConfig(2, log_every=1, checkpoint_every=2),
-                                 critic_base_channels=8, batch_size=4)
-    if profile == "cpu":
-        return ActFormerTraining(**common, loop=LoopConfig(2000, log_every=100, checkpoint_every=500),
-                                 critic_base_channels=8, batch_size=16)
-    if profile == "paper":
-        clips = variant.splits["train"].num_sequences
-        steps = PAPER_EPOCHS * clips // (4 * 64)
-        return ActFormerTraining(**common, loop=LoopConfig(steps, log_every=100, checkpoint_every=1000))
-    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-
-
-
-def csgn_table_training(dataset: str, profile: str, temporal: str = "conv") -> ActFormerTraining:
-    """The graph-convolution generator (:class:`~jaxmotion.models.csgn.CSGNConfig`) in ActFormer's recipe on
-    ``dataset`` in ``profile`` (:func:`actformer_table_training`'s critic, batch, steps and GP prior):
-    ``temporal="conv"`` is the CSGN baseline of Tables 1-2 (conditional BatchNorm in the generator, the
-    projection critic), ``"transformer"`` Table 3's row (2), graph convolutions with T-Formers over time."""
-    training = actformer_table_training(dataset, profile)
-    g = training.generator
-    variant = synthetic.VARIANTS[dataset]
-    skeleton = SMPL24 if variant.markers is None else variant.markers.skeleton
-    parents = skeleton.parents + ((0,) if g.output == "smpl" else ())  # SMPL-25: the translation node
-    generator = CSGNConfig(num_classes=g.num_classes, joints=g.joints, channels=g.channels, persons=g.persons,
-                           frames=g.frames, output=g.output, parents=parents, temporal=temporal)
-    if profile == "smoke":
-        generator = dataclasses.replace(generator, widths=(8, 8, 8, 8), heads=2)
-    return dataclasses.replace(training, generator=generator)

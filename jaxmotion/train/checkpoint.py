@@ -7,7 +7,7 @@ temporary folder. A checkpoint damaged afterwards (a file cut short by a full di
 for the previous one, with a warning (:meth:`Checkpointer.restore`).
 
 Restores take the shardings of the state they restore into: a state replicated on a data mesh
-(:mod:`jaxmotion.train.mesh`) comes back replicated on that mesh, whatever mesh wrote it. With several
+(:mod:`jaxmotion.distributed`) comes back replicated on that mesh, whatever mesh wrote it. With several
 processes every process opens the same folder and calls ``save``/``restore`` together; orbax writes each
 array once and synchronises the processes itself.
 """

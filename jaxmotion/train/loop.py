@@ -24,7 +24,7 @@ Options:
   state included, starts a run whose ``workdir`` holds no checkpoint yet. The step counter continues
   from that checkpoint's step, so ``config.steps`` stays the total (a 2 000-step run fine-tuned for 200
   more has ``steps=2200``); once the new run has checkpoints of its own it resumes from those.
-* ``mesh``: a data mesh (:func:`jaxmotion.train.mesh.data_mesh`). State and key are replicated on it,
+* ``mesh``: a data mesh (:func:`jaxmotion.distributed.data_mesh`). State and key are replicated on it,
   every batch is split along its leading axis (which must divide by the device count), and the step
   compiles as one SPMD program; checkpoints restore onto the mesh. ``None`` (default): one device, as
   before. With several processes, only process 0 writes ``metrics.jsonl`` and shows progress.
@@ -47,7 +47,7 @@ from jax.sharding import Mesh
 
 from jaxmotion.files import folder_lock, write_atomic
 from jaxmotion.train.checkpoint import Checkpointer
-from jaxmotion.train.mesh import is_primary, replicate, replicated, shard_batch
+from jaxmotion.distributed import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
 
 

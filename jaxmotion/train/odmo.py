@@ -1,14 +1,13 @@
 """Training ODMO (:mod:`jaxmotion.models.odmo`) as the authors' ``Trainer`` does (OD ``src/modules/trainer.py``,
 ``train_odmo.py``, ``dataloader_samplestart_rotate2xz_pairwise.py``).
 
-:class:`ODMOTraining` is the recipe: model, loss (:class:`~jaxmotion.losses.odmo.ODMOLossConfig`), Adam
+:class:`ODMOTraining` is the trainer's config: model, loss (:class:`~jaxmotion.losses.odmo.ODMOLossConfig`), Adam
 1e-3 with the gradient norm clipped at 1, batches of 512 **pairs** (:class:`~jaxmotion.data.pipeline.PairSpec`:
 first windows drawn class-balanced, ODMO's class weights 10/count; the partner of the same class with
 probability ½), the teacher-forcing schedule (:class:`TeacherForcing`), a held-out validation split, and
 the loop (:class:`~jaxmotion.train.loop.LoopConfig`; deterministic, resumable, data-parallel on a mesh).
-:func:`train_odmo` fits it with :func:`~jaxmotion.train.fit.fit` and returns an :class:`ODMOFit`: the
-parameters, the encoder's running statistics and the **code bank** (codes of real training windows,
-:func:`jaxmotion.pipelines.odmo.code_bank`) every sampler and customisation reads.
+:func:`train_odmo` fits it with :func:`~jaxmotion.train.fit.fit` on the clips :func:`validation_split` leaves;
+the code bank every sampler reads, and the table rows, are :mod:`jaxmotion.recipes.odmo`'s.
 
 The code's units, and this recipe's:
 
@@ -36,22 +35,20 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
-from typing import Any, Literal, NamedTuple
+from typing import Literal
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 import optax
-from flax.training.train_state import TrainState
 
-from jaxmotion.data.datasets import PAPER_SIZES
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, PairSpec
-from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.losses.odmo import ODMOLossConfig, pair_loss
-from jaxmotion.models.odmo import ODMOConfig, ODMOParams, ODMOStats, flatten_poses, forward, init_odmo
+from jaxmotion.models.odmo import ODMOConfig, flatten_poses, forward, init_odmo
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
+from jaxmotion.train.state import TrainState
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,51 +74,8 @@ class TeacherForcing:
 
 
 @dataclasses.dataclass(frozen=True)
-class CodeBankConfig:
-    """How many real windows the samplers' code bank encodes: ``passes`` × ``draws`` class-balanced draws
-    (the code: passes over its training loader of 2 048 draws; MoCap 5, HumanAct12 15, UESTC 8), exact
-    duplicates dropped (a clip no longer than the window always gives the same window)."""
-
-    passes: int = 15
-    draws: int = 2048
-
-    def __post_init__(self):
-        if self.passes < 1 or self.draws < 1:
-            raise ValueError(f"CodeBankConfig: passes and draws must be >= 1, got {self.passes}, {self.draws}")
-
-
-@dataclasses.dataclass(frozen=True)
-class ModeDiscovery:
-    """How the samplers find each class's modes (:func:`jaxmotion.mixtures.discover_modes_batched`): the
-    silhouette ``rule`` (``"code"``: k 3..9, the authors' code; ``"paper"``: k 3..11) and the GMM restarts."""
-
-    rule: Literal["code", "paper"] = "code"
-    n_init: int = 5
-
-    def __post_init__(self):
-        if self.rule not in ("code", "paper"):
-            raise ValueError(f"ModeDiscovery.rule: expected 'code' or 'paper', got {self.rule!r}")
-        if self.n_init < 1:
-            raise ValueError(f"ModeDiscovery.n_init: expected >= 1, got {self.n_init}")
-
-
-class ODMOState(TrainState):
-    batch_stats: Any = None  # ODMOStats
-
-
-class ODMOFit(NamedTuple):
-    """A trained ODMO: parameters, the encoder's running statistics, and the code bank of its real
-    training windows (:class:`jaxmotion.pipelines.odmo.CodeBank`)."""
-
-    params: ODMOParams
-    stats: ODMOStats
-    bank: Any
-
-
-@dataclasses.dataclass(frozen=True)
 class ODMOTraining:
-    """How ODMO is trained (defaults: the code on HumanAct12) and which sampler its table row uses (``sampling``: ``"modes"``,
-    mode-preserving, ODMO's row; ``"conventional"``, ODMO_conv)."""
+    """How ODMO is trained (defaults: the code on HumanAct12)."""
 
     model: ODMOConfig
     losses: ODMOLossConfig = ODMOLossConfig()
@@ -133,17 +87,12 @@ class ODMOTraining:
     validation_fraction: float = 0.1  # UESTC 0.01
     partners: Literal["uniform", "balanced"] = "uniform"  # MoCap: "balanced"
     canonical: bool = True
-    bank: CodeBankConfig = CodeBankConfig()
-    modes: ModeDiscovery = ModeDiscovery()
-    sampling: Literal["modes", "conventional"] = "modes"
 
     def __post_init__(self):
         if self.batch_size < 1:
             raise ValueError(f"ODMOTraining.batch_size: expected >= 1, got {self.batch_size}")
         if not 0.0 <= self.validation_fraction < 1.0:
             raise ValueError(f"ODMOTraining.validation_fraction: expected in [0, 1), got {self.validation_fraction}")
-        if self.sampling not in ("modes", "conventional"):
-            raise ValueError(f"ODMOTraining.sampling: expected 'modes' or 'conventional', got {self.sampling!r}")
         if not self.learning_rate > 0 or not self.clip_norm > 0:
             raise ValueError(f"ODMOTraining: learning_rate and clip_norm must be > 0, got {self.learning_rate}, "
                              f"{self.clip_norm}")
@@ -153,29 +102,16 @@ class ODMOTraining:
         return PairSpec(BatchSpec(batch_size=self.batch_size, window=self.model.num_frames, sampling="balanced",
                                   canonical=self.canonical), other=self.partners)
 
-    @property
-    def training(self) -> ODMOTraining:
-        """What determines the fit (the sampler does not): rows differing only in how they sample train once."""
-        return dataclasses.replace(self, sampling="modes", modes=ModeDiscovery())
-
-    # as a table row (jaxmotion.evaluation.tables.Recipe)
-    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options) -> ODMOFit:
-        return train_odmo(data, self, key, workdir, **loop_options)
-
-    def sampler(self, trained: ODMOFit, skeleton: Skeleton):
-        from jaxmotion.pipelines.odmo import odmo_sampler  # pipelines build on this module
-
-        return odmo_sampler(trained, self, skeleton)
-
 
 def odmo_optimizer(training: ODMOTraining) -> optax.GradientTransformation:
     """Adam with the gradient's global norm clipped first (``clip_grad_norm_`` then ``Adam.step``)."""
     return optax.chain(optax.clip_by_global_norm(training.clip_norm), optax.adam(training.learning_rate))
 
 
-def odmo_state(training: ODMOTraining, key: jax.Array) -> ODMOState:
+def odmo_state(training: ODMOTraining, key: jax.Array) -> TrainState:
+    """Fresh parameters, the encoder's running statistics as ``buffers`` and the optimiser's state."""
     params, stats = init_odmo(key, training.model)
-    return ODMOState.create(apply_fn=None, params=params, tx=odmo_optimizer(training), batch_stats=stats)
+    return TrainState.create(params, odmo_optimizer(training), stats)
 
 
 def odmo_step(training: ODMOTraining):
@@ -196,14 +132,14 @@ def odmo_step(training: ODMOTraining):
         teacher_mask = jnp.repeat(draws.T, b, axis=1)  # [T, 2B]
 
         def loss_fn(params):
-            out = forward(params, state.batch_stats, k_z, poses, actions, model, train=True,
+            out = forward(params, state.buffers, k_z, poses, actions, model, train=True,
                           teacher_mask=teacher_mask, groups=2)
             halves = [{k: v[i * b:(i + 1) * b] for k, v in out.items() if k != "stats"} for i in (0, 1)]
             loss, metrics = pair_loss(*halves, poses[:b], poses[b:], batch["same"], losses)
             return loss, (metrics, out["stats"])
 
         (_, (metrics, stats)), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
-        state = state.apply_gradients(grads=grads).replace(batch_stats=stats)
+        state = state.apply_gradients(grads).replace(buffers=stats)
         return state, {**metrics, "teacher_forcing": rate}
 
     return step_fn
@@ -226,85 +162,11 @@ def _check_data(training: ODMOTraining, data: MotionDataset) -> None:
 
 
 def train_odmo(data: MotionDataset, training: ODMOTraining, key: jax.Array, workdir: str | Path | None = None, *,
-               progress: bool = True, **loop_options) -> ODMOFit:
-    """Fit ODMO on ``data`` (resuming from ``workdir``'s checkpoints when present) and encode its code bank.
-
-    ``key`` splits into the validation split, the fit (:func:`~jaxmotion.train.fit.fit`: initialisation,
-    data order, per-step keys) and the code bank's draws. ``loop_options`` go to the loop (``mesh``,
-    ``init_from``, ``eval_fn``)."""
-    from jaxmotion.pipelines.odmo import code_bank  # pipelines build on this module
-
+               progress: bool = True, **loop_options) -> TrainState:
+    """Fit ODMO on ``data`` (the clips left after :func:`validation_split`; resuming from ``workdir``'s
+    checkpoints when present); returns the final state (``buffers``: the encoder's running statistics).
+    ``key``: :func:`~jaxmotion.train.fit.fit`'s (initialisation, data order, per-step keys); ``loop_options`` go
+    to the loop (``mesh``, ``init_from``, ``eval_fn``)."""
     _check_data(training, data)
-    k_split, k_fit, k_bank = jax.random.split(key, 3)
-    train_ids, _ = validation_split(data, k_split, training.validation_fraction)
-    train_data = data.subset(train_ids)
-    state = fit(train_data, k_fit, init_state=lambda k: odmo_state(training, k), step_fn=odmo_step(training),
-                batch=training.batch, loop=training.loop, workdir=workdir, progress=progress, **loop_options)
-    bank = code_bank(state.params, state.batch_stats, training, train_data, k_bank)
-    return ODMOFit(state.params, state.batch_stats, bank)
-
-
-#: The code's per-dataset settings (``param_*.py``): frames, y weight, validation share, partner draw, bank passes.
-DATASET_SETTINGS = {
-    "HumanAct12": dict(num_frames=60, y_weight=5.0, validation_fraction=0.1, partners="uniform", passes=15),
-    "UESTC": dict(num_frames=60, y_weight=5.0, validation_fraction=0.01, partners="uniform", passes=8),
-    "MoCap": dict(num_frames=100, y_weight=1.0, validation_fraction=0.1, partners="balanced", passes=5),
-}
-
-
-def dataset_training(label: str, num_joints: int, num_classes: int, **model_overrides) -> ODMOTraining:
-    """The authors' recipe on the paper dataset ``label`` (``"HumanAct12"``, ``"UESTC"``, ``"MoCap"``): their
-    model, loss, optimiser, 512 pairs, 100 000 epochs (400 000 steps), with ``num_joints`` and
-    ``num_classes`` of the data (the embedded stand-ins have 24 joints; the real sets 24, 18 and 20)."""
-    if label not in DATASET_SETTINGS:
-        raise ValueError(f"label: expected one of {sorted(DATASET_SETTINGS)}, got {label!r}")
-    settings = DATASET_SETTINGS[label]
-    model = ODMOConfig(num_joints=num_joints, num_classes=num_classes, num_frames=settings["num_frames"],
-                       **model_overrides)
-    return ODMOTraining(model, losses=ODMOLossConfig(y_weight=settings["y_weight"]),
-                        validation_fraction=settings["validation_fraction"], partners=settings["partners"],
-                        bank=CodeBankConfig(passes=settings["passes"]))
-
-
-#: The cpu profile's ODMO (every ODMO table): LSTMs of 64 units (the paper's 128), 32 pairs a step, 1 200
-#: steps; teacher forcing decays over the first 60% of them (the code: over 4 000 of 100 000 epochs).
-CPU_STEPS = 1200
-CPU_TRAINING = ODMOTraining(ODMOConfig(num_joints=24, num_classes=12, trajectory_hidden=64, motion_hidden=64),
-                            loop=LoopConfig(CPU_STEPS, log_every=50, checkpoint_every=300), batch_size=32,
-                            teacher_forcing=TeacherForcing(decay_epochs=int(0.6 * CPU_STEPS / 4)),
-                            bank=CodeBankConfig(passes=4))
-
-
-def odmo_table_training(label: str, profile: str, cpu: ODMOTraining = CPU_TRAINING, num_joints: int = 24
-                        ) -> ODMOTraining:
-    """ODMO in a table on the paper dataset ``label`` in ``profile``: paper, :func:`dataset_training`; cpu, the
-    dataset's settings with ``cpu``'s model widths, loop, batch, schedule and bank; smoke, a tiny model for a
-    few steps. The classes are the dataset's; ``num_joints`` the data's (24 on the embedded stand-ins)."""
-    classes = PAPER_SIZES[label][0]
-    paper = dataset_training(label, num_joints, classes)
-    if profile == "paper":
-        return paper
-    if profile == "cpu":
-        model = dataclasses.replace(cpu.model, num_joints=num_joints, num_classes=classes,
-                                    num_frames=paper.model.num_frames)
-        return dataclasses.replace(paper, model=model, loop=cpu.loop, batch_size=cpu.batch_size,
-                                   teacher_forcing=cpu.teacher_forcing, bank=cpu.bank)
-    if profile == "smoke":
-        model = ODMOConfig(num_joints=num_joints, num_classes=classes, num_frames=paper.model.num_frames,
-                           encoder_hidden=8, encoder_width=16, trajectory_hidden=8, trajectory_layers=1,
-                           motion_hidden=8, motion_layers=1)
-        return dataclasses.replace(paper, model=model, loop=LoopConfig(4, log_every=2, checkpoint_every=0),
-                                   batch_size=8, teacher_forcing=TeacherForcing(decay_epochs=1),
-                                   bank=CodeBankConfig(passes=1, draws=1024), modes=ModeDiscovery(n_init=1))
-    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-
-
-def benchmark_variants(odmo: ODMOTraining) -> dict[str, ODMOTraining]:
-    """The ODMO rows of the paper's Tables 1 and 2 from the full recipe: ODMO, ODMO_conv (its sampler only:
-    trained once with ODMO), -r_e (no end location into the trajectory generator), -L_es (no contrastive term)."""
-    return {
-        "ODMO": odmo,
-        "ODMO_conv": dataclasses.replace(odmo, sampling="conventional"),
-        "-r_e": dataclasses.replace(odmo, model=dataclasses.replace(odmo.model, use_end=False)),
-        "-L_es": dataclasses.replace(odmo, losses=dataclasses.replace(odmo.losses, contrastive=False)),
-    }
+    return fit(data, key, init_state=lambda k: odmo_state(training, k), step_fn=odmo_step(training),
+               batch=training.batch, loop=training.loop, workdir=workdir, progress=progress, **loop_options)

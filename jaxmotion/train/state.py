@@ -1,7 +1,11 @@
-"""A training state with several named parameter sets, each with its own optimiser (GAN: generator +
-critic).
+"""Training states: one optimiser (:class:`TrainState`) or several named parameter sets, each with its own
+optimiser (:class:`MultiState`, a GAN's generator + critic).
 
-:class:`MultiState` is a pytree like ``flax.training.train_state.TrainState``: ``step``, ``params``,
+Both keep the non-trained state a model carries (BatchNorm running statistics, spectral-norm power-iteration
+vectors) as ``buffers``, checkpointed with the parameters and never touched by the optimiser.
+
+:class:`TrainState` is ``step``, ``params``, ``opt_state`` and ``buffers`` with the optimiser static;
+``apply_gradients`` counts the step. :class:`MultiState` is a pytree like ``flax.training.train_state.TrainState``: ``step``, ``params``,
 ``opt_states`` and ``buffers`` (untrained state: spectral-norm vectors) are its leaves (checkpointed, replicated
 on a data mesh), the optimisers are static. The
 loop needs only its ``step``; one loop step is whatever the step function makes of it, e.g. ActFormer's
@@ -30,6 +34,29 @@ import jax
 import jax.numpy as jnp
 import optax
 from flax import struct
+
+
+class TrainState(struct.PyTreeNode):
+    """``step`` (updates done), ``params``, ``opt_state`` and ``buffers`` (non-trained state, ``{}`` when the
+    model has none); the optimiser ``tx`` is static."""
+
+    step: jax.Array
+    params: Any
+    opt_state: Any
+    tx: optax.GradientTransformation = struct.field(pytree_node=False)
+    buffers: Any = struct.field(default_factory=dict)
+
+    @classmethod
+    def create(cls, params: Any, tx: optax.GradientTransformation, buffers: Any = None) -> TrainState:
+        """Step 0 and ``tx``'s fresh state for ``params``."""
+        return cls(step=jnp.zeros((), jnp.int32), params=params, opt_state=tx.init(params), tx=tx,
+                   buffers={} if buffers is None else buffers)
+
+    def apply_gradients(self, grads: Any) -> TrainState:
+        """One optimiser update with ``grads`` (same structure as ``params``), one step later."""
+        updates, opt_state = self.tx.update(grads, self.opt_state, self.params)
+        return self.replace(step=self.step + 1, params=optax.apply_updates(self.params, updates),
+                            opt_state=opt_state)
 
 
 class MultiState(struct.PyTreeNode):

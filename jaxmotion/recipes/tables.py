@@ -1,0 +1,210 @@
+"""Paper tables: rows are method recipes, trained from one key, written as generators, scored together.
+
+A **row** of a table is a trainer config (:class:`~jaxmotion.train.actor.ActorTraining`,
+:class:`~jaxmotion.train.a2m.A2MTraining`, :class:`~jaxmotion.train.actformer.ActFormerTraining`) or a recipe
+config that says more than training (:class:`~jaxmotion.recipes.odmo.ODMORecipe`); :func:`recipe_for` gives its
+:class:`Recipe`: ``fit(data, key, workdir)`` trains (resuming from ``workdir``'s checkpoints) and
+``generator(trained, facts)`` turns the result into the method's generator
+(:class:`~jaxmotion.pipelines.artefacts.Generator`). :func:`fit_generator` does both and writes the generator to
+``<workdir>/generator/`` beside the checkpoints, where :func:`jaxmotion.load_generator` finds it.
+
+:func:`fit_rows` trains every row of a table from the same key (same data order, and the same initialisation where
+shapes agree, so rows differ only by what the table varies) in its own folder ``<workdir>/<slug(row)>/``; rows
+whose recipes share what determines the fit (ODMO and ODMO_conv: only their samplers differ) train once.
+:func:`run_table` is a whole table on one dataset, :func:`run_tables` on several, side by side.
+
+The paper datasets' tables per profile: :func:`table_dataset` (the stand-in, the evaluator each paper scores it
+with, the protocol), :func:`actformer_table` (ActFormer's protocol and evaluators).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Protocol
+
+import jax
+import numpy as np
+from jax.sharding import Mesh
+
+from jaxmotion.data import synthetic
+from jaxmotion.data.datasets import paper_dataset
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.distributed import is_primary
+from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler
+from jaxmotion.evaluation.recognizers import trained_recognizer
+from jaxmotion.evaluation.tables import (
+    ACTOR_COLUMNS,
+    TableData,
+    TableDataset,
+    paper_columns,
+    real_sets,
+    score_rows,
+    side_by_side,
+    slug,
+    table_evaluator,
+)
+from jaxmotion.pipelines.artefacts import DataFacts, Generator
+from jaxmotion.recipes.a2m import A2MRecipe
+from jaxmotion.recipes.actformer import ActFormerRecipe
+from jaxmotion.recipes.actor import ActorRecipe
+from jaxmotion.recipes.evaluators import evaluator_spec
+from jaxmotion.recipes.odmo import ODMORecipe
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.train.actformer import ActFormerTraining
+from jaxmotion.train.actor import ActorTraining
+
+GENERATOR_FOLDER = "generator"
+
+
+class Recipe(Protocol):
+    """A method as a table row: how to train it, and its generator once trained."""
+
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options) -> Any: ...
+
+    def generator(self, trained: Any, facts: DataFacts) -> Generator: ...
+
+
+#: A trainer config -> the recipe that makes it a row.
+RECIPES = MappingProxyType({ActorTraining: ActorRecipe, A2MTraining: A2MRecipe, ActFormerTraining: ActFormerRecipe})
+#: What a table's row may be.
+Row = ActorTraining | A2MTraining | ActFormerTraining | ODMORecipe
+
+
+def recipe_for(row: Row | Recipe) -> Recipe:
+    """The recipe of a row: a recipe (anything with ``fit`` and ``generator``) as it is, a trainer config wrapped
+    by its paper's recipe."""
+    if callable(getattr(row, "fit", None)) and callable(getattr(row, "generator", None)):
+        return row
+    if type(row) not in RECIPES:
+        raise TypeError(f"row: expected one of {', '.join(t.__name__ for t in (*RECIPES, ODMORecipe))}, got "
+                        f"{type(row).__name__}")
+    return RECIPES[type(row)](row)
+
+
+def fit_generator(row: Row | Recipe, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None,
+                  **loop_options) -> Generator:
+    """Train ``row`` on ``data`` (resuming from ``workdir``'s checkpoints) and return its generator, also written
+    to ``<workdir>/generator/`` when ``workdir`` is given."""
+    recipe = recipe_for(row)
+    generator = recipe.generator(recipe.fit(data, key, workdir, **loop_options), DataFacts.of(data))
+    if workdir is not None and is_primary():
+        generator.save(Path(workdir) / GENERATOR_FOLDER)
+    return generator
+
+
+def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Array, workdir: str | Path,
+             **loop_options) -> dict[str, Generator]:
+    """Train every row from the same ``key`` in ``<workdir>/<slug(row)>/`` and write each row's generator to
+    ``<workdir>/<slug(row)>/generator/``; return the generators. Rows whose recipes share what determines the
+    fit (a recipe's ``fit_key``, else the recipe itself) train once, in the first such row's folder."""
+    folders = [slug(name) for name in rows]
+    if len(set(folders)) != len(folders):
+        raise ValueError(f"rows: names must give distinct folder names, got {list(rows)}")
+    fitted: list[tuple[Any, Any]] = []  # (what determines a fit, its result)
+    facts = DataFacts.of(data)
+    generators = {}
+    for (name, row), folder in zip(rows.items(), folders):
+        recipe = recipe_for(row)
+        what = getattr(recipe, "fit_key", recipe)
+        trained = next((result for known, result in fitted if known == what), None)
+        if trained is None:
+            trained = recipe.fit(data, key, Path(workdir) / folder, **loop_options)
+            fitted.append((what, trained))
+        generators[name] = recipe.generator(trained, facts)
+        if is_primary():
+            generators[name].save(Path(workdir) / folder / GENERATOR_FOLDER)
+    return generators
+
+
+#: The cpu profile's protocol unless an experiment sizes its own: 5 repetitions of up to 1 000 motions.
+CPU_PROTOCOL = ProtocolConfig(repetitions=5, max_real=1000)
+#: The smoke profile's: 2 repetitions of 40 motions.
+SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, max_real=40, chunk=40)
+#: The evaluator each paper scores a paper dataset's stand-in with (None: no recogniser knows its classes, GTA
+#: Combat's one; ActFormer's tables use ActFormer's ST-GCNs, :func:`actformer_table`).
+EVALUATOR_OF = MappingProxyType({
+    "NTU-13": "synth-ntu13/gru", "UESTC": "synth-uestc/stgcn", "HumanAct12": "synth-humanact12/gru",
+    "MoCap": "synth-cmu/gru", "NTURecon-1P": "synth-ntu1p-smpl/stgcn", "NTU-1P": "synth-ntu1p/stgcn",
+    "BABEL": "synth-babel120/stgcn", "NTU-2P": "synth-ntu2p/stgcn",
+    **{f"Combat {p}P": None for p in range(2, 6)},
+})
+
+
+def table_dataset(label: str, profile: str, *, cpu_protocol: ProtocolConfig = CPU_PROTOCOL,
+                  paper_protocol: ProtocolConfig = ProtocolConfig.actor(), evaluator: str | None = None,
+                  smoke_protocol: ProtocolConfig = SMOKE_PROTOCOL) -> TableDataset:
+    """The embedded stand-in of the paper dataset ``label`` (:data:`~jaxmotion.data.datasets.PAPER_DATASETS`) in
+    ``profile``: its standard evaluator (:data:`EVALUATOR_OF`, or ``evaluator``, an evaluator name: ODMO scores
+    UESTC with its own GRU) in that profile (none if the stand-in has none); smoke: 80 clips and
+    ``smoke_protocol``; cpu: ``cpu_protocol``; paper: ``paper_protocol``."""
+    dataset = paper_dataset(label)
+    data = TableData(dataset.stand_in, count=80 if profile == "smoke" else None, test_split=dataset.test_split)
+    protocol = {"smoke": smoke_protocol, "cpu": cpu_protocol, "paper": paper_protocol}.get(profile)
+    if protocol is None:
+        raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+    name = evaluator or EVALUATOR_OF[label]
+    return TableDataset(label, data, None if name is None else evaluator_spec(name, profile), protocol)
+
+
+#: ActFormer's smoke protocol: its settings at 3 motions per class and 2 repetitions.
+ACTFORMER_SMOKE_PROTOCOL = ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, chunk=64,
+                                          accuracy="class_mean", class_fid=True, reference="tiles")
+
+
+def actformer_table(label: str, profile: str) -> TableDataset:
+    """The stand-in of ``label`` under ActFormer's protocol (:meth:`ProtocolConfig.actformer`; cpu: 5
+    repetitions) with its ST-GCN evaluator; several persons add FID_a's one-person recogniser, NTU-1P's. GTA
+    Combat (one class) has FID_a alone, from NTU-1P's recogniser on the 15 joints NTU and GTA share."""
+    dataset = paper_dataset(label)
+    combat = EVALUATOR_OF[label] is None
+    table = table_dataset(label, profile, evaluator=None if combat else dataset.stand_in + "/stgcn",
+                          paper_protocol=ProtocolConfig.actformer(), cpu_protocol=ProtocolConfig.actformer(5),
+                          smoke_protocol=ACTFORMER_SMOKE_PROTOCOL)
+    if synthetic.VARIANTS[table.data.name].persons == 1:
+        return table
+    person = "synth-ntu1p/stgcn-joints15" if combat else "synth-ntu1p/stgcn"
+    return dataclasses.replace(table, person_evaluator=evaluator_spec(person, profile))
+
+
+#: What :func:`run_table` hands its ``pictures`` hook: the dataset, its rows' trained samplers, its train split.
+PicturesHook = Callable[[TableDataset, Mapping[str, Sampler], MotionDataset], None]
+
+
+def run_table(rows: Mapping[str, Row | Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
+              eval_key: jax.Array, data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS,
+              mesh: Mesh | None = None, pictures: PicturesHook | None = None) -> dict[str, dict[str, np.ndarray]]:
+    """A table on one dataset: load it, train every row (:func:`fit_rows` in ``workdir``), score them
+    together (:func:`~jaxmotion.evaluation.tables.score_rows`); rows in the paper's ``columns``, the Real row
+    last. ``mesh``: train and evaluate data-parallel on it (None: one device). ``pictures``: called once the rows
+    are scored, to draw what they generate."""
+    real = real_sets(table.data, data_root)
+    recognizer = table_evaluator(table, real, data_root)  # before any row trains
+    person = (None if table.person_evaluator is None
+              else trained_recognizer(table.person_evaluator, data_root=data_root)[0].reading(real["train"].skeleton))
+    generators = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
+    samplers = {name: generator.sampler() for name, generator in generators.items()}
+    scored = paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
+                                      person_recognizer=person), columns)
+    if pictures is not None:
+        pictures(table, samplers, real["train"])
+    return scored
+
+
+def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Row | Recipe]], *,
+               workdir: str | Path, key: Callable[[str], jax.Array], data_root: str | None = None,
+               columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None,
+               pictures: PicturesHook | None = None) -> dict[str, dict[str, Any]]:
+    """A table over several datasets, side by side: on each, the rows ``rows_of(dataset)`` train in
+    ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``
+    (``pictures``: :func:`run_table`'s hook, on each)."""
+    labels = [table.label for table in tables]
+    if len({slug(label) for label in labels}) != len(labels):
+        raise ValueError(f"tables: labels must give distinct folder names, got {labels}")
+    return side_by_side({table.label: run_table(rows_of(table), table, workdir=Path(workdir) / slug(table.label),
+                                                train_key=key(f"train {table.label}"),
+                                                eval_key=key(f"eval {table.label}"), data_root=data_root,
+                                                columns=columns, mesh=mesh, pictures=pictures)
+                         for table in tables})
