@@ -18,7 +18,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Mapping
-from typing import TextIO
+from typing import Self, TextIO
 
 ENV_AFTER = "JAXMOTION_PROGRESS_AFTER"
 ENV_EVERY = "JAXMOTION_PROGRESS_EVERY"
@@ -84,7 +84,7 @@ class Progress:
             self.stream.write("\n")
             self.stream.flush()
 
-    def __enter__(self) -> Progress:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc) -> None:

@@ -407,9 +407,10 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
         record = read_json(folder / "recognizer.json")
         if record is not None:
             skeleton = SKELETONS[record["skeleton"]]
+            persons = record.get("persons", 1)  # records before several persons had one
             # shapes only: initialising the network eagerly took 10 s of a smoke run's silent start
             like = jax.eval_shape(lambda: _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]),
-                                                         record.get("persons", 1)))  # records before several persons had one
+                                                         persons))
             with Checkpointer(folder / "checkpoints") as ckpt:
                 state = ckpt.restore(like)
             return _recognizer(spec, skeleton, record["class_names"], state), record
