@@ -105,10 +105,11 @@ class Progress:
         if self._first is not None and self.done > self._first[1] and now > self._first[0]:
             rate = (self.done - self._first[1]) / (now - self._first[0])
         eta = 0.0 if self.done >= self.total else None if rate is None else (self.total - self.done) / rate
-        speed = "?" if rate is None else f"{rate:.1f}" if rate >= 1 else f"{rate:.2g}"
         shown = (f" | {note}" if note else "") + "".join(f" | {k} {v:.4g}" for k, v in metrics.items())
+        if rate is not None:  # unknown until a unit after the first has ended
+            shown += f" | {rate:.1f} {self.unit}/s" if rate >= 1 else f" | {rate:.2g} {self.unit}/s"
         return (f"{self.label}{self.unit} {math.floor(self.done + 1e-9)}/{self.total}{bar} {100 * fraction:3.0f}%"
-                f"{shown} | {speed} {self.unit}/s | {duration(now - self._t0)} | ETA {duration(eta)}")
+                f"{shown} | {duration(now - self._t0)} | ETA {duration(eta)}")
 
     def _write(self, line: str) -> None:
         self.stream.write(("\r\033[K" + line) if self._tty else line + "\n")

@@ -36,7 +36,7 @@ def _phase(total, clock, after="10", every="5", **options):
 def test_eta_leaves_out_the_first_unit_which_includes_compilation():
     clock = Clock()
     lines = _run(_phase(10, clock, after="0", every="0"), clock, [30.0, 2.0, 2.0])  # compile, then 2 s a unit
-    assert lines[0].endswith("| ? item/s | 30s | ETA ?")
+    assert lines[0] == "[test] item 1/10  10% | work | 30s | ETA ?"  # no speed before a second unit
     # 2 units in the 4 s after the first: 0.5 unit/s, 7 units left
     assert lines[2] == "[test] item 3/10  30% | work | 0.5 item/s | 34s | ETA 14s"
 
