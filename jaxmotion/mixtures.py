@@ -85,6 +85,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.progress import phase
+
 _HIGHEST = jax.lax.Precision.HIGHEST
 
 MODE_KS = {"code": range(3, 10), "paper": range(3, 12)}
@@ -749,13 +751,15 @@ def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -
     silhouettes = np.full((x.shape[0], len(ks)), np.nan)
     live = np.ones(x.shape[0], bool)
     fits = []
-    for j, k in enumerate(ks):
-        gmm, labels, scores = fit_k(keys, x, mask, jnp.asarray(live), k, n_init, max_iter, tol, reg_covar, init)
-        fits.append((_slots(gmm, ks[-1], reg_covar), labels))
-        silhouettes[live, j] = np.asarray(scores, np.float64)[live]
-        live = np.array([_break_index(row[:j + 1], rule) is None for row in silhouettes])
-        if not live.any():
-            break
+    with phase("[modes]", len(ks), unit="k") as bar:  # each k compiles its own kernel: seconds each on a CPU
+        for j, k in enumerate(ks):
+            gmm, labels, scores = fit_k(keys, x, mask, jnp.asarray(live), k, n_init, max_iter, tol, reg_covar, init)
+            fits.append((_slots(gmm, ks[-1], reg_covar), labels))
+            silhouettes[live, j] = np.asarray(scores, np.float64)[live]
+            bar.advance(note=f"k={k} fitted for {int(live.sum())} of {x.shape[0]} problems")
+            live = np.array([_break_index(row[:j + 1], rule) is None for row in silhouettes])
+            if not live.any():
+                break
     index = np.array([ks.index(choose_k(row, ks, rule=rule)) for row in silhouettes])
     problems = np.arange(x.shape[0])
     gmm, labels = jax.tree.map(lambda *a: jnp.stack(a)[index, problems], *fits)

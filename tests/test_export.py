@@ -23,6 +23,7 @@ from jaxmotion.geometry import (
     forward_kinematics,
     matrix_to_axis_angle,
 )
+from jaxmotion.progress import ENV_AFTER, ENV_EVERY
 
 FRAMES = 16
 FPS = 20.0
@@ -370,6 +371,15 @@ def test_export_motions_writes_every_format_with_each_motions_own_frames(tmp_pat
         loaded, _ = export.load_amass_npz(tmp_path / "out" / f"{stem}.npz",
                                           offsets=in_joint_order(bvh, SMPL24.joint_names)[1])
         np.testing.assert_allclose(loaded.joints, joints, rtol=0, atol=FK_ATOL)
+
+
+def test_export_motions_reports_each_motion_once_progress_is_due(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv(ENV_AFTER, "0")
+    monkeypatch.setenv(ENV_EVERY, "0")
+    export.export_motions(tmp_path / "out", batch(), SMPL24, FPS, formats=("npy",))
+    lines = capsys.readouterr().err.splitlines()
+    assert [line.split(" | ")[0] for line in lines] == [
+        "[export] out motion 1/3  33%", "[export] out motion 2/3  67%", "[export] out motion 3/3 100%"]
 
 
 def test_export_motions_of_a_dataset_uses_its_names_fps_and_each_subjects_offsets(tmp_path):

@@ -15,6 +15,7 @@ from jaxmotion.evaluation.protocol import (ProtocolConfig, evaluate, generate, p
 from jaxmotion.metrics.classification import accuracy, confusion_matrix, mean_class_recall
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models.recognition import Recognizer, RecognizerConfig, init_recognizer
+from jaxmotion.progress import ENV_AFTER, ENV_EVERY
 
 CONFIG = ProtocolConfig(repetitions=2, max_real=48, duration=30, diversity_pairs=50, multimodality_pairs=5, chunk=20)
 
@@ -77,6 +78,26 @@ def test_same_key_same_rows(data, recognizer):
     a = evaluate(jax.random.key(2), samplers, recognizer, {"train": data["train"]}, CONFIG)
     b = evaluate(jax.random.key(2), samplers, recognizer, {"train": data["train"]}, CONFIG)
     assert a == b
+
+
+def test_evaluate_reports_every_pass_when_the_threshold_is_zero_and_its_numbers_stay_the_same(
+        data, recognizer, capsys, monkeypatch):
+    samplers = {"replay": replay_sampler(data["train"])}
+    monkeypatch.setenv(ENV_AFTER, "inf")
+    quiet = evaluate(jax.random.key(2), samplers, recognizer, data, CONFIG)
+    assert capsys.readouterr().err == ""
+    monkeypatch.setenv(ENV_AFTER, "0")
+    monkeypatch.setenv(ENV_EVERY, "0")
+    shown = evaluate(jax.random.key(2), samplers, recognizer, data, CONFIG)
+    lines = capsys.readouterr().err.splitlines()
+    assert shown == quiet
+    assert all(line.startswith("[eval] pass ") for line in lines)
+    # per repetition: the two real sets' features, the generation, the Real row's and replay's scoring
+    assert [line.split(" | ")[1] for line in lines] == [
+        f"rep {r}/2 {what}" for r in (1, 2)
+        for what in ("train reference", "test reference", "replay generating", "Real scoring", "replay scoring")
+        for _ in range(3 if what == "replay generating" else 1)]  # 48 clips in chunks of 20
+    assert lines[-1].startswith("[eval] pass 10/10 100% | ")
 
 
 def test_per_class_protocol_asks_each_class_equally(data, recognizer):

@@ -69,6 +69,7 @@ from jaxmotion.geometry.rotations import (
     matrix_to_euler,
 )
 from jaxmotion.geometry.skeletons import SMPL24, Skeleton, topological_order
+from jaxmotion.progress import phase
 
 __all__ = [
     "FORMATS", "BvhMotion", "export_motions", "load_amass_npz", "load_bvh", "rest_offsets", "save_amass_npz",
@@ -715,15 +716,17 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     written = []
-    for stem, clip in zip(stems, clips):
-        for fmt in formats:
-            path = folder / f"{stem}.{fmt}"
-            if fmt == "npy":
-                written.append(save_joints_npy(path, clip.joints))
-            elif fmt == "npz":
-                written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, up=up))
-            else:
-                offsets = rest_offsets(clip.rotations, clip.joints, skeleton.parents)
-                written.append(save_bvh(path, clip.rotations, clip.translation, offsets, skeleton.parents,
-                                        skeleton.joint_names, fps, order))
+    with phase(f"[export] {folder.name}", len(clips), unit="motion") as bar:
+        for stem, clip in zip(stems, clips):
+            for fmt in formats:
+                path = folder / f"{stem}.{fmt}"
+                if fmt == "npy":
+                    written.append(save_joints_npy(path, clip.joints))
+                elif fmt == "npz":
+                    written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, up=up))
+                else:
+                    offsets = rest_offsets(clip.rotations, clip.joints, skeleton.parents)
+                    written.append(save_bvh(path, clip.rotations, clip.translation, offsets, skeleton.parents,
+                                            skeleton.joint_names, fps, order))
+            bar.advance()
     return written

@@ -378,7 +378,8 @@ def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec
                          ids, chunk)
 
 
-def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any = None) -> Any:
+def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any = None,
+                  on_chunk: Callable[[int, int], None] | None = None) -> Any:
     """Apply ``fn(i, chunk_i)`` to consecutive chunks of ``size`` rows of ``rows`` (a pytree of arrays
     sharing a leading axis N) and concatenate its outputs (a pytree of arrays with a leading row axis) on
     the host. The last chunk is padded by repeating its last row, so ``fn`` sees one shape (one
@@ -386,7 +387,10 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any
 
     ``mesh``: a data mesh (:func:`jaxmotion.distributed.data_mesh`); each chunk is then split along its rows
     over the mesh's devices (``size`` rounded up to a multiple of the device count), and the outputs are
-    gathered from every device (and process) before they are concatenated. ``None``: one device."""
+    gathered from every device (and process) before they are concatenated. ``None``: one device.
+
+    ``on_chunk(i, chunks)``: called once chunk i (1-based) of ``chunks`` is on the host (progress reports,
+    :meth:`jaxmotion.progress.Progress.per_chunk`)."""
     total = jax.tree.leaves(rows)[0].shape[0]
     size = min(size, total)
     place, fetch = (lambda part: part), np.asarray
@@ -394,7 +398,7 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any
         devices = mesh.shape[DATA_AXIS]
         size = -(-size // devices) * devices
         place, fetch = (lambda part: shard_batch(part, mesh)), gather
-    parts = []
+    parts, chunks = [], -(-total // size)
     for i, first in enumerate(range(0, total, size)):
         count = min(size, total - first)
 
@@ -404,6 +408,8 @@ def map_in_chunks(fn: Callable[[int, Any], Any], rows: Any, size: int, mesh: Any
 
         out = fn(i, place(jax.tree.map(padded, rows)))
         parts.append(jax.tree.map(lambda a, count=count: fetch(a)[:count], out))
+        if on_chunk is not None:
+            on_chunk(i + 1, chunks)
     return jax.tree.map(lambda *chunks: np.concatenate(chunks), *parts)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
+from pathlib import Path
 
 import matplotlib
 
@@ -28,6 +29,7 @@ from matplotlib.animation import FuncAnimation, PillowWriter
 
 from jaxmotion.data.motion import Motion, MotionDataset, person_axis
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.progress import phase
 
 # Each view is the world direction drawn to the image's right (vertical is always +Y), in the frame where
 # the subject faces +Z. The camera then sits at right x up: front (+X right) looks at the subject's front,
@@ -203,7 +205,9 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
             _draw_3d(ax, people[:, min(frame, people.shape[1] - 1)], skeleton, half)
         return []
 
-    FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps))
+    with phase(f"[render] {Path(path).name}", length, unit="frame") as bar:  # a GIF of a large grid takes minutes
+        FuncAnimation(fig, update, frames=length).save(path, writer=PillowWriter(fps=data.fps),
+                                                       progress_callback=lambda i, _: bar.update(i + 1))
     plt.close(fig)
 
 

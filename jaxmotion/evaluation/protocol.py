@@ -57,6 +57,7 @@ from jaxmotion.metrics.classification import accuracy, confusion_matrix, mean_cl
 from jaxmotion.metrics.diversity import diversity, multimodality
 from jaxmotion.metrics.fid import aggregate_persons, fid, fid_class_mean
 from jaxmotion.models.recognition import Recognizer
+from jaxmotion.progress import phase
 
 Motions = Mapping[str, Any]
 Sampler = Callable[[jax.Array, jax.Array, jax.Array], Motions]
@@ -125,10 +126,11 @@ def real_windows(data: MotionDataset, key: jax.Array, config: ProtocolConfig, ca
 
 
 def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: int, chunk: int,
-             mesh: Mesh | None = None) -> dict[str, np.ndarray]:
+             mesh: Mesh | None = None, on_chunk: Callable[[int, int], None] | None = None) -> dict[str, np.ndarray]:
     """Call ``sampler`` on ``actions [N]`` in chunks of ``chunk`` (the last one padded, so the sampler sees
     one shape) and concatenate; chunk i uses ``fold_in(key, i)``. ``mesh``: split each chunk over a data
-    mesh's devices (:func:`jaxmotion.data.pipeline.map_in_chunks`); ``None``: one device."""
+    mesh's devices (:func:`jaxmotion.data.pipeline.map_in_chunks`); ``None``: one device. ``on_chunk``:
+    progress, as ``map_in_chunks`` calls it."""
     if mesh is not None:
         key = replicate(key, mesh)
 
@@ -139,7 +141,7 @@ def generate(sampler: Sampler, key: jax.Array, actions: np.ndarray, duration: in
             raise ValueError(f"sampler output: expected a mapping with 'joints' [N, T, J, 3], got keys {sorted(motions)}")
         return dict(motions)
 
-    return map_in_chunks(sample, np.asarray(actions, np.int32), chunk, mesh=mesh)
+    return map_in_chunks(sample, np.asarray(actions, np.int32), chunk, mesh=mesh, on_chunk=on_chunk)
 
 
 class Reference(NamedTuple):
@@ -151,7 +153,8 @@ class Reference(NamedTuple):
     person_features: jax.Array | None = None
 
 
-def person_features(recognizer: Recognizer, motions: Motions) -> jax.Array:
+def person_features(recognizer: Recognizer, motions: Motions, on_chunk: Callable[[int, int], None] | None = None
+                    ) -> jax.Array:
     """FID_a's features: each person of ``motions`` (``joints [N, P, T, J, 3]``, and ``translation`` /
     ``rotations`` alike) through a one-person ``recognizer``, channel-wise max over the persons -> ``[N, D]``."""
     joints = np.asarray(motions["joints"])
@@ -163,37 +166,39 @@ def person_features(recognizer: Recognizer, motions: Motions) -> jax.Array:
             for k in ("joints", "translation", "rotations") if motions.get(k) is not None}
     if motions.get("lengths") is not None:
         rows["lengths"] = np.repeat(np.asarray(motions["lengths"]), p)
-    _, features = recognizer(rows)
+    _, features = recognizer(rows, on_chunk)
     return aggregate_persons(jnp.reshape(features, (n, p, -1)))
 
 
-def reference_features(recognizer: Recognizer | None, motions: Motions, person_recognizer: Recognizer | None = None
-                       ) -> Reference:
-    """A real set's :class:`Reference` (``motions``: a batch dict with ``actions``)."""
-    pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
-    features = None if recognizer is None else recognizer(motions)[1]
+def reference_features(recognizer: Recognizer | None, motions: Motions, person_recognizer: Recognizer | None = None,
+                       on_chunk: Callable[[int, int], None] | None = None) -> Reference:
+    """A real set's :class:`Reference` (``motions``: a batch dict with ``actions``; ``on_chunk``: progress of
+    each recogniser's pass)."""
+    pooled = None if person_recognizer is None else person_features(person_recognizer, motions, on_chunk)
+    features = None if recognizer is None else recognizer(motions, on_chunk)[1]
     return Reference(features, jnp.asarray(motions["actions"]), pooled)
 
 
 def score(key: jax.Array, recognizer: Recognizer | None, motions: Motions, actions: np.ndarray,
           references: Mapping[str, Reference], config: ProtocolConfig, real: Motions | None = None,
-          person_recognizer: Recognizer | None = None, num_classes: int | None = None) -> dict[str, float]:
+          person_recognizer: Recognizer | None = None, num_classes: int | None = None,
+          on_chunk: Callable[[int, int], None] | None = None) -> dict[str, float]:
     """The metrics of one set of motions made for ``actions [N]``: accuracy (``config.accuracy``),
     ``FID_<name>`` against each named :class:`Reference`, with ``config.class_fid`` the class-mean
     ``FIDm_<name>``, with a ``person_recognizer`` FID_a (``FIDa_<name>``, ``FIDam_<name>`` per class), then
     diversity, multimodality, and with ``config.n_apd`` the n-APD against the ``real`` motions (a batch dict
     with ``joints`` and ``actions``). ``recognizer=None``: FID_a (and n-APD) only; ``num_classes``, the data's
-    class count, is then required."""
+    class count, is then required. ``on_chunk``: progress of each recogniser's pass."""
     if recognizer is None and (person_recognizer is None or num_classes is None):
         raise ValueError("recognizer: without one, score needs a person_recognizer and num_classes (FID_a only)")
     actions = jnp.asarray(actions)
     classes = recognizer.num_classes if recognizer is not None else num_classes
     out, features = {}, None
     if recognizer is not None:
-        logits, features = recognizer(motions)
+        logits, features = recognizer(motions, on_chunk)
         confusion = confusion_matrix(actions, jnp.argmax(logits, -1), classes)
         out["accuracy"] = float((mean_class_recall if config.accuracy == "class_mean" else accuracy)(confusion))
-    pooled = None if person_recognizer is None else person_features(person_recognizer, motions)
+    pooled = None if person_recognizer is None else person_features(person_recognizer, motions, on_chunk)
     for name, reference in references.items():
         if features is not None:
             out[f"FID_{name}"] = float(fid(features, reference.features))
@@ -251,6 +256,10 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
     ``recognizer=None`` the rows hold FID_a alone (a dataset no recogniser knows the classes of).
     ``mesh``: generation and the recogniser's passes split their chunks over a
     data mesh's devices (same numbers up to float32 sums); ``None``: one device.
+
+    Progress: a long evaluation prints ``[eval] pass 5/14 ... | rep 2/5 ACTOR generating | ... | ETA 1m20s``
+    lines on stderr, a pass being one generation or one recogniser's pass over a set, advanced per chunk
+    (:func:`jaxmotion.progress.phase`: ``JAXMOTION_PROGRESS_AFTER`` seconds of silence first, 10 by default).
     """
     if not real:
         raise ValueError("real: expected at least one named real dataset")
@@ -270,27 +279,36 @@ def evaluate(key: jax.Array, samplers: Mapping[str, Sampler], recognizer: Recogn
     rows: dict[str, dict[str, list[float]]] = {name: {} for name in ("Real", *samplers)}
     reference_name = next(iter(real))
     tiles = config.reference == "tiles"
-    if tiles:
-        draws = {name: tiled_windows(data, config.reference_window) for name, data in real.items()}
-        references = {name: reference_features(recognizer, draw, person_recognizer) for name, draw in draws.items()}
-        present = np.unique(draws[reference_name]["actions"])
-        actions = np.repeat(present, config.per_class).astype(np.int32)
-    for r in range(config.repetitions):
-        k_real, k_again, k_score, k_generate = jax.random.split(jax.random.fold_in(key, r), 4)
-        if not tiles:
-            draws = {name: real_windows(data, jax.random.fold_in(k_real, i), config, canonical)
-                     for i, (name, data) in enumerate(real.items())}
-            references = {name: reference_features(recognizer, draw, person_recognizer)
+    passes = (recognizer is not None) + (person_recognizer is not None)  # recogniser passes over one set
+    total = (len(real) * passes * (1 if tiles else config.repetitions)
+             + config.repetitions * (len(samplers) + (1 + len(samplers)) * passes))
+    with phase("[eval]", total, unit="pass") as bar:
+        if tiles:
+            draws = {name: tiled_windows(data, config.reference_window) for name, data in real.items()}
+            references = {name: reference_features(recognizer, draw, person_recognizer,
+                                                   bar.per_chunk(f"{name} reference"))
                           for name, draw in draws.items()}
-            actions = draws[reference_name]["actions"]
-        second = real_windows(real[reference_name], k_again, config, canonical)
-        sets = {"Real": (second, second["actions"])}
-        for i, (name, sampler) in enumerate(samplers.items()):
-            sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
-                                   config.chunk, mesh), actions)
-        for i, (name, (motions, labels)) in enumerate(sets.items()):
-            metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, references, config,
-                            draws[reference_name], person_recognizer, real[reference_name].num_classes)
-            for metric, value in metrics.items():
-                rows[name].setdefault(metric, []).append(value)
+            present = np.unique(draws[reference_name]["actions"])
+            actions = np.repeat(present, config.per_class).astype(np.int32)
+        for r in range(config.repetitions):
+            rep = f"rep {r + 1}/{config.repetitions}"
+            k_real, k_again, k_score, k_generate = jax.random.split(jax.random.fold_in(key, r), 4)
+            if not tiles:
+                draws = {name: real_windows(data, jax.random.fold_in(k_real, i), config, canonical)
+                         for i, (name, data) in enumerate(real.items())}
+                references = {name: reference_features(recognizer, draw, person_recognizer,
+                                                       bar.per_chunk(f"{rep} {name} reference"))
+                              for name, draw in draws.items()}
+                actions = draws[reference_name]["actions"]
+            second = real_windows(real[reference_name], k_again, config, canonical)
+            sets = {"Real": (second, second["actions"])}
+            for i, (name, sampler) in enumerate(samplers.items()):
+                sets[name] = (generate(sampler, jax.random.fold_in(k_generate, i), actions, config.duration,
+                                       config.chunk, mesh, bar.per_chunk(f"{rep} {name} generating")), actions)
+            for i, (name, (motions, labels)) in enumerate(sets.items()):
+                metrics = score(jax.random.fold_in(k_score, i), recognizer, motions, labels, references, config,
+                                draws[reference_name], person_recognizer, real[reference_name].num_classes,
+                                bar.per_chunk(f"{rep} {name} scoring"))
+                for metric, value in metrics.items():
+                    rows[name].setdefault(metric, []).append(value)
     return rows

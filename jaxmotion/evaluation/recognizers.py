@@ -47,6 +47,7 @@ from jaxmotion.models.recognition import (
     recognizer_inputs,
 )
 from jaxmotion.files import folder_lock, read_json, write_json
+from jaxmotion.progress import phase
 from jaxmotion.train.checkpoint import Checkpointer
 from jaxmotion.distributed import is_primary
 from jaxmotion.train.fit import fit
@@ -224,7 +225,8 @@ def evaluate_recognizer(recognizer: Recognizer, data: MotionDataset, key: jax.Ar
     count = len(data) if count is None else min(count, len(data))
     windows = epoch_windows(data, key, BatchSpec(batch_size=1, window=window, canonical=recognizer.config.canonical),
                             count)
-    logits, _ = recognizer(windows)
+    with phase("[evaluator] held-out", 1, unit="pass") as bar:
+        logits, _ = recognizer(windows, bar.per_chunk(f"{count} clips"))
     confusion = confusion_matrix(jnp.asarray(windows["actions"]), jnp.argmax(logits, -1), recognizer.num_classes)
     return {"accuracy": float(accuracy(confusion)), "confusion": np.asarray(confusion).tolist(), "clips": count}
 
@@ -305,8 +307,10 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
         record = read_json(folder / "recognizer.json")
         if record is not None:
             skeleton = SKELETONS[record["skeleton"]]
-            like = _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]),
-                                  record.get("persons", 1))  # records before several persons had one
+            persons = record.get("persons", 1)  # records before several persons had one
+            # shapes only: initialising the network eagerly took 10 s of a smoke run's silent start
+            like = jax.eval_shape(lambda: _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]),
+                                                         persons))
             with Checkpointer(folder / "checkpoints") as ckpt:
                 state = ckpt.restore(like)
             return _recognizer(spec, skeleton, record["class_names"], state), record

@@ -344,6 +344,9 @@ class Recognizer:
         joints15_indices(skeleton)  # refuses a skeleton without a mapping
         return dataclasses.replace(self, skeleton=skeleton)
 
-    def __call__(self, motions: Mapping[str, Any]) -> tuple[jax.Array, jax.Array]:
+    def __call__(self, motions: Mapping[str, Any], on_chunk: Callable[[int, int], None] | None = None
+                 ) -> tuple[jax.Array, jax.Array]:
+        """``on_chunk``: progress, as :func:`~jaxmotion.data.pipeline.map_in_chunks` calls it."""
         rows = {k: motions[k] for k in ("joints", "translation", "rotations", "lengths") if motions.get(k) is not None}
-        return map_in_chunks(lambda _, part: self._forward(self._variables, part), rows, self.chunk, mesh=self.mesh)
+        return map_in_chunks(lambda _, part: self._forward(self._variables, part), rows, self.chunk, mesh=self.mesh,
+                             on_chunk=on_chunk)

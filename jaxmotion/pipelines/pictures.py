@@ -17,6 +17,7 @@ from jaxmotion.data.motion import MotionDataset, to_dataset
 from jaxmotion.data.preview import render_grid
 from jaxmotion.evaluation.protocol import Sampler
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.progress import phase
 
 
 def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_names: Sequence[str], fps: float,
@@ -35,7 +36,9 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
         raise ValueError(f"per_action, duration: expected >= 1, got {per_action}, {duration}")
     labels = np.repeat(np.asarray(actions, np.int32), per_action)
     durations = np.full(labels.shape, duration, np.int32)
-    motions = {k: np.asarray(v) for k, v in sampler(key, labels, durations).items()}
+    with phase("[pictures]", 1, unit="call") as bar:  # one call, compiled for this shape: seconds
+        motions = {k: np.asarray(v) for k, v in sampler(key, labels, durations).items()}
+        bar.advance(note=f"{len(labels)} motions")
     samples = tuple(f"sample {k + 1}" for k in range(per_action))
     data = to_dataset({**motions, "lengths": durations, "actions": labels}, skeleton, class_names, fps,
                       name="generated", modes=np.arange(len(labels), dtype=np.int32) % per_action,

@@ -147,12 +147,13 @@ def _splits(variant: Variant, split: str) -> tuple[str, ...]:
 
 
 def generate(name: str, split: str = "train", *, seed: int = 0, count: int | None = None,
-             progress: bool = False) -> MotionDataset:
+             progress: bool = True) -> MotionDataset:
     """Generate a split in memory (``"all"`` = every split, concatenated).
 
     ``count`` keeps only the first ``count`` sequences of each split; prefixes are class- and
     mode-balanced, so small counts give small, representative datasets (tests, smoke runs). ``progress``:
-    a progress line with an ETA on stderr.
+    a progress line with an ETA on stderr once generation has run for ``JAXMOTION_PROGRESS_AFTER`` seconds
+    (:func:`jaxmotion.progress.phase`).
     """
     variant = _variant(name)
     parts = [generate_split(variant, s, seed, count, progress=progress) for s in _splits(variant, split)]
@@ -188,7 +189,7 @@ def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Pat
             except Exception as error:  # numpy, zipfile and json raise many types for a damaged file
                 reason = f"{path} cannot be read ({type(error).__name__}: {error})"
             print(f"[data] generating {name}/{split} again: {reason}", file=sys.stderr)
-        data = generate(name, split, seed=seed, progress=True)  # minutes for a full split: say so
+        data = generate(name, split, seed=seed)
         print(f"[data] cached {name}/{split} in {path}", file=sys.stderr)
         data.save(path, source=source)
         return data

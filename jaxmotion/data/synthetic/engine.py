@@ -39,7 +39,7 @@ from jaxmotion.geometry.kinematics import (
 )
 from jaxmotion.geometry.markers import MarkerSet, markers_from_rotations
 from jaxmotion.geometry.skeletons import SMPL24, Skeleton
-from jaxmotion.progress import Progress
+from jaxmotion.progress import phase
 
 _PARENTS = SMPL24.parents
 _ANKLES = (SMPL24.index("left_ankle"), SMPL24.index("right_ankle"))
@@ -337,7 +337,7 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
         frames_of, chunk = (lambda s: s.persons * s.takes[0].num_frames), _scene_chunk
         first_subject = lambda s: s.takes[0].subject.index  # noqa: E731
     parts, subjects = [], []
-    bar = Progress(len(actions), unit="sequence", label=f"[data] generating {variant.name}/{split}") if progress else None
+    bar = phase(f"[data] generating {variant.name}/{split}", len(actions), unit="sequence") if progress else None
     for batch in _batches(items, frames_of):
         subjects += [first_subject(p) for p in batch]
         parts.append(chunk(variant, batch))
