@@ -88,5 +88,5 @@ class A2MGenerator(SamplingGenerator):
 
     @classmethod
     def load(cls, artefact: Artefact) -> A2MGenerator:
-        template = jax.eval_shape(init_a2m_vae, jax.random.key(0), artefact.model)
+        template = jax.eval_shape(lambda k: init_a2m_vae(k, artefact.model), jax.random.key(0))
         return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

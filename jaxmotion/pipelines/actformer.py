@@ -82,7 +82,7 @@ class ActFormerGenerator(SamplingGenerator):
     @classmethod
     def load(cls, artefact: Artefact) -> ActFormerGenerator:
         g = artefact.model.generator
-        params, buffers = jax.eval_shape(generator_network(g).init_generator, jax.random.key(0), g)
+        params, buffers = jax.eval_shape(lambda k: generator_network(g).init_generator(k, g), jax.random.key(0))
         return cls(artefact.model, artefact.tree("params", params), artefact.tree("buffers", buffers),
                    artefact.array("bone_lengths"), float(artefact.settings["root_height"]), artefact.facts)
 

@@ -437,5 +437,5 @@ class ActorGenerator(SamplingGenerator):
 
     @classmethod
     def load(cls, artefact: Artefact) -> ActorGenerator:
-        template = jax.eval_shape(init_actor, jax.random.key(0), artefact.model)
+        template = jax.eval_shape(lambda k: init_actor(k, artefact.model), jax.random.key(0))
         return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

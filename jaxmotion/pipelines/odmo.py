@@ -383,7 +383,7 @@ class ODMOGenerator(SamplingGenerator):
 
     @classmethod
     def load(cls, artefact: Artefact) -> ODMOGenerator:
-        params, buffers = jax.eval_shape(init_odmo, jax.random.key(0), artefact.model)
+        params, buffers = jax.eval_shape(lambda k: init_odmo(k, artefact.model), jax.random.key(0))
         bank = artefact.tree("bank", CodeBank(*[0] * len(CodeBank._fields)))
         gmm = GaussianMixture(*[0] * len(GaussianMixture._fields))
         if artefact.settings["mixtures"] == "conventional":
