@@ -50,7 +50,7 @@ np.savez(sys.argv[2], joints=motions.joints, translation=motions.translation, st
 @pytest.mark.parametrize("name", list(_rows()))
 def test_a_loaded_generator_generates_bitwise_what_the_trained_one_does(name, tmp_path):
     dataset, row = _rows()[name]
-    data = load_dataset(dataset, count=24) if "ntu" not in dataset else synthetic.generate(dataset, "train", count=8)
+    data = load_dataset(dataset, count=24) if "ntu" not in dataset else synthetic.generate(dataset, "train", count=16)
     generator = fit_generator(row, data, jax.random.key(0), tmp_path / "run" / "row", progress=False)
     here = generator.generate(7, ACTIONS)
     out = tmp_path / "loaded.npz"
