@@ -34,16 +34,16 @@ from ActFormer's models, in the run's folder.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
-from experiments.actformer_single import a2m_baseline
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, COMBAT_COLUMNS, TableDataset, interleave_reported, slug
-from jaxmotion.recipes.tables import actformer_table, run_tables
+from jaxmotion.recipes.tables import DatasetTable, actformer_table, run_tables, table_key
 from jaxmotion.pipelines.pictures import generation_grid
-from jaxmotion.train.a2m import A2MTraining
 from jaxmotion.train.actformer import ActFormerTraining
-from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
+from jaxmotion.recipes.actformer import a2m_baseline, actformer_table_training, csgn_table_training
 
 NTU2P = tuple(f"NTU-2P {column}" for column in ACTFORMER_COLUMNS.values())
 
@@ -83,48 +83,36 @@ def _recipe(recipe, dataset: str, profile: str, cpu_steps: int) -> ActFormerTrai
 
 @dataclasses.dataclass(frozen=True)
 class ActFormerMultiConfig(experiment.ProfileConfig):
-    ntu2p: TableDataset
-    ntu2p_actformer: ActFormerTraining
-    ntu2p_a2m: A2MTraining
-    ntu2p_csgn: ActFormerTraining
-    combat: tuple[TableDataset, ...]  # one per person count
-    combat_actformer: tuple[ActFormerTraining, ...]  # the model of each
-    combat_csgn: tuple[ActFormerTraining, ...]
+    ntu2p: DatasetTable  # NTU-2P: Action2Motion, CSGN and ActFormer
+    combat: Mapping[str, DatasetTable]  # GTA Combat, one table per person count (combat2p ...): CSGN and ActFormer
     picture_actions: tuple[int, ...] = (0, 5, 8)  # NTU-2P's rows in its picture: punching, hugging, handshaking
     picture_samples: int = 3  # generated scenes per row (combat: one row, its only class)
-
-    def __post_init__(self):
-        for name in ("combat_actformer", "combat_csgn"):
-            if len(getattr(self, name)) != len(self.combat):
-                raise ValueError(f"{name}: expected one training per combat table ({len(self.combat)}), "
-                                 f"got {len(getattr(self, name))}")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerMultiConfig:
         persons = (2,) if profile == "cpu" else range(2, 6)
-        return cls(actformer_table("NTU-2P", profile),
-                   _recipe(actformer_table_training, "synth-ntu2p", profile, NTU2P_CPU_STEPS),
-                   a2m_baseline("NTU-2P", profile, joints=25, persons=2),
-                   _recipe(csgn_table_training, "synth-ntu2p", profile, NTU2P_CPU_STEPS),
-                   tuple(actformer_table(f"Combat {p}P", profile) for p in persons),
-                   tuple(_recipe(actformer_table_training, f"synth-combat-{p}p", profile, COMBAT_CPU_STEPS)
-                         for p in persons),
-                   tuple(_recipe(csgn_table_training, f"synth-combat-{p}p", profile, COMBAT_CPU_STEPS)
-                         for p in persons))
+        ntu2p = DatasetTable(actformer_table("NTU-2P", profile), FrozenMap({
+            "Action2Motion": a2m_baseline("NTU-2P", profile, joints=25, persons=2),
+            "CSGN": _recipe(csgn_table_training, "synth-ntu2p", profile, NTU2P_CPU_STEPS),
+            "ActFormer": _recipe(actformer_table_training, "synth-ntu2p", profile, NTU2P_CPU_STEPS)}))
+        combat = {table_key(f"Combat {p}P"): DatasetTable(actformer_table(f"Combat {p}P", profile), FrozenMap({
+            "CSGN": _recipe(csgn_table_training, f"synth-combat-{p}p", profile, COMBAT_CPU_STEPS),
+            "ActFormer": _recipe(actformer_table_training, f"synth-combat-{p}p", profile, COMBAT_CPU_STEPS)}))
+            for p in persons}
+        return cls(ntu2p, FrozenMap(combat))
 
 
 def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
     """Figure 5's pictures: key poses of ActFormer's generated scenes, ``<workdir>/<dataset>-generated.png``."""
 
-    models = {config.ntu2p.label: config.ntu2p_actformer,
-              **{table.label: training for table, training in zip(config.combat, config.combat_actformer)}}
+    frames = {d.table.label: d.rows["ActFormer"].generator.frames for d in (config.ntu2p, *config.combat.values())}
 
     def draw(table: TableDataset, samplers, train) -> None:
         actions = config.picture_actions if train.num_classes > 1 else (0,)
         path = ctx.workdir / f"{slug(table.label)}-generated.png"
         generation_grid(samplers["ActFormer"], ctx.key(f"pictures {table.label}"), train.skeleton,
                         train.class_names, train.fps, actions, path, per_action=config.picture_samples,
-                        duration=models[table.label].generator.frames, still=True)
+                        duration=frames[table.label], still=True)
 
     return draw
 
@@ -132,12 +120,8 @@ def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
 def run(config: ActFormerMultiConfig, ctx: experiment.RunContext):
     common = dict(workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh,
                   pictures=_pictures(config, ctx))
-    rows = run_tables([config.ntu2p], lambda table: {"Action2Motion": config.ntu2p_a2m, "CSGN": config.ntu2p_csgn,
-                                                     "ActFormer": config.ntu2p_actformer},
-                      columns=ACTFORMER_COLUMNS, **common)
-    models = {table.label: {"CSGN": csgn, "ActFormer": actformer}
-              for table, csgn, actformer in zip(config.combat, config.combat_csgn, config.combat_actformer)}
-    combat = run_tables(config.combat, lambda table: models[table.label], columns=COMBAT_COLUMNS, **common)
+    rows = run_tables([config.ntu2p], columns=ACTFORMER_COLUMNS, **common)
+    combat = run_tables(list(config.combat.values()), columns=COMBAT_COLUMNS, **common)
     for name, cells in combat.items():
         rows.setdefault(name, {}).update(cells)
     return interleave_reported(rows, REPORTED, ROWS)

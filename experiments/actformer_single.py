@@ -22,7 +22,7 @@ evaluator trained on the other split (:data:`~jaxmotion.evaluation.recognizers.A
 Rows the paper has and a dataset does not run carry the paper's numbers only.
 
     python -m experiments.actformer_single                   # cpu profile: NTU-13
-    python -m experiments.actformer_single --set 'datasets=["NTU-13","NTU-1P"]'
+    python -m experiments.actformer_single --set 'datasets=["ntu13","ntu1p"]'
     python -m experiments.actformer_single --profile paper
 
 Table: rows Real, then each method's measured row followed by its "(reported)" row; columns "<dataset> Acc",
@@ -41,18 +41,15 @@ a step on 2 cores.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.data.datasets import paper_dataset
-from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, TableDataset, interleave_reported, reported_row
-from jaxmotion.recipes.tables import actformer_table, run_tables
-from jaxmotion.train.a2m import A2MTraining
-from jaxmotion.recipes.a2m import a2m_table_training
-from jaxmotion.train.actformer import ActFormerTraining
-from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
-from jaxmotion.train.actor import ActorTraining
-from jaxmotion.recipes.actor import table_training
+from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, interleave_reported, reported_row
+from jaxmotion.recipes.tables import DatasetTable, actformer_table, run_tables, table_key
+from jaxmotion.recipes.actformer import a2m_baseline, actformer_table_training, actor_baseline, csgn_table_training
 
 LABELS = ("NTU-13", "NTURecon-1P", "NTU-1P", "BABEL")
 #: Table 1's columns per dataset.
@@ -83,81 +80,42 @@ CLAIMS = tuple(
     for op, column in ((">", "Acc"), ("<", "FID_m"), ("<", "FID_w"))
 )
 
-def actor_baseline(label: str, profile: str) -> ActorTraining:
-    """ACTOR on ``label``'s rotations in the dataset's frame (the table recipe of its class count)."""
-    base = table_training("NTU-13", profile)
-    classes = paper_dataset(label).num_classes
-    return dataclasses.replace(base, model=dataclasses.replace(base.model, num_classes=classes), canonical=False)
-
-
-def a2m_baseline(label: str, profile: str, joints: int, persons: int = 1) -> A2MTraining:
-    """Action2Motion on ``label``'s ``joints`` positions in the dataset's frame (several persons: all their
-    joints side by side in each frame, as the paper scales the baselines to NTU-2P)."""
-    base = a2m_table_training("NTU-13", profile)
-    model = dataclasses.replace(base.model, pose_dim=3 * joints * persons, num_classes=paper_dataset(label).num_classes)
-    return dataclasses.replace(base, model=model, canonical=False)
-
-
 _JOINTS = {"NTU-13": 24, "NTU-1P": 25}
+
+
+def dataset_rows(label: str, profile: str) -> DatasetTable:
+    """Table 1 on one dataset: ActFormer's protocol and evaluator, and the rows that read its representation."""
+    stand_in = paper_dataset(label).stand_in
+    rows = {}
+    if label in A2M_RUNS:
+        rows["Action2Motion"] = a2m_baseline(label, profile, _JOINTS[label])
+    rows["CSGN"] = csgn_table_training(stand_in, profile)
+    if label in ACTOR_RUNS:
+        rows["ACTOR"] = actor_baseline(label, profile)
+    rows["ActFormer"] = actformer_table_training(stand_in, profile)
+    return DatasetTable(actformer_table(label, profile), FrozenMap(rows))
 
 
 @dataclasses.dataclass(frozen=True)
 class ActFormerSingleConfig(experiment.ProfileConfig):
-    datasets: tuple[str, ...]  # which of Table 1's datasets run (their fields below)
-    ntu13: TableDataset
-    ntu13_actformer: ActFormerTraining
-    ntu13_csgn: ActFormerTraining
-    ntu13_actor: ActorTraining
-    ntu13_a2m: A2MTraining
-    nturecon: TableDataset
-    nturecon_actformer: ActFormerTraining
-    nturecon_csgn: ActFormerTraining
-    nturecon_actor: ActorTraining
-    ntu1p: TableDataset
-    ntu1p_actformer: ActFormerTraining
-    ntu1p_csgn: ActFormerTraining
-    ntu1p_a2m: A2MTraining
-    babel: TableDataset
-    babel_actformer: ActFormerTraining
-    babel_csgn: ActFormerTraining
-    babel_actor: ActorTraining
+    datasets: tuple[str, ...]  # which of Table 1's datasets run (keys of ``tables``: ntu13, nturecon1p, ntu1p, babel)
+    tables: Mapping[str, DatasetTable]
 
     def __post_init__(self):
-        unknown = set(self.datasets) - set(LABELS)
+        unknown = set(self.datasets) - set(self.tables)
         if unknown or not self.datasets:
-            raise ValueError(f"datasets: expected a non-empty subset of {LABELS}, got {self.datasets}")
+            raise ValueError(f"datasets: expected a non-empty subset of {list(self.tables)}, got {self.datasets}")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerSingleConfig:
-        fields = {}
-        for label in LABELS:
-            name = _field(label)
-            fields[name] = actformer_table(label, profile)
-            fields[f"{name}_actformer"] = actformer_table_training(paper_dataset(label).stand_in, profile)
-            fields[f"{name}_csgn"] = csgn_table_training(paper_dataset(label).stand_in, profile)
-            if label in ACTOR_RUNS:
-                fields[f"{name}_actor"] = actor_baseline(label, profile)
-            if label in A2M_RUNS:
-                fields[f"{name}_a2m"] = a2m_baseline(label, profile, _JOINTS[label])
         # smoke: one skeleton and one SMPL stand-in (BABEL also samples classes by the square root)
         chosen = {"cpu": ("NTU-13",), "smoke": ("NTU-13", "BABEL")}.get(profile, LABELS)
-        return cls(datasets=chosen, **fields)
-
-
-def _field(label: str) -> str:
-    return {"NTU-13": "ntu13", "NTURecon-1P": "nturecon", "NTU-1P": "ntu1p", "BABEL": "babel"}[label]
-
-
-def rows_of(config: ActFormerSingleConfig, label: str) -> dict:
-    name = _field(label)
-    rows = {"Action2Motion": getattr(config, f"{name}_a2m", None), "CSGN": getattr(config, f"{name}_csgn"),
-            "ACTOR": getattr(config, f"{name}_actor", None), "ActFormer": getattr(config, f"{name}_actformer")}
-    return {row: recipe for row, recipe in rows.items() if recipe is not None}
+        return cls(datasets=tuple(table_key(label) for label in chosen),
+                   tables=FrozenMap({table_key(label): dataset_rows(label, profile) for label in LABELS}))
 
 
 def run(config: ActFormerSingleConfig, ctx: experiment.RunContext):
-    tables = [getattr(config, _field(label)) for label in LABELS if label in config.datasets]
-    rows = run_tables(tables, lambda table: rows_of(config, table.label), workdir=ctx.workdir, key=ctx.key,
+    rows = run_tables([config.tables[name] for name in config.datasets], workdir=ctx.workdir, key=ctx.key,
                       data_root=ctx.data_root, columns=COLUMNS, mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, ROWS)
 

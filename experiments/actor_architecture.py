@@ -49,16 +49,18 @@ hold (w/o bias token FID_tr 8.6 ± 1.8 vs 4.5 ± 0.9).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
-from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row
-from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.evaluation.tables import interleave_reported, reported_row
+from jaxmotion.recipes.tables import DatasetTable, run_tables, table_dataset, table_key
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig
 from jaxmotion.train.actor import ActorTraining
-from jaxmotion.recipes.actor import table_training
+from jaxmotion.recipes.actor import ActorTable, table_training
 from jaxmotion.train.loop import LoopConfig
 
 # Table 2's rows: the ActorConfig fields each changes in the headline model
@@ -116,15 +118,13 @@ CLAIMS = (
 
 @dataclasses.dataclass(frozen=True)
 class ActorArchitectureConfig(experiment.ProfileConfig):
-    uestc: TableDataset
-    uestc_training: ActorTraining  # the headline model every row changes
-    ntu13: TableDataset
-    ntu13_training: ActorTraining
+    tables: Mapping[str, ActorTable]  # uestc, ntu13: the headline model every row changes
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorArchitectureConfig:
-        return cls(table_dataset("UESTC", profile, cpu_protocol=CPU_PROTOCOL), table_training("UESTC", profile, CPU),
-                   table_dataset("NTU-13", profile, cpu_protocol=CPU_PROTOCOL), table_training("NTU-13", profile, CPU))
+        return cls(FrozenMap({table_key(label): ActorTable(table_dataset(label, profile, cpu_protocol=CPU_PROTOCOL),
+                                                           table_training(label, profile, CPU))
+                              for label in ("UESTC", "NTU-13")}))
 
 
 def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
@@ -134,9 +134,8 @@ def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
 
 
 def run(config: ActorArchitectureConfig, ctx: experiment.RunContext):
-    trainings = {config.uestc.label: config.uestc_training, config.ntu13.label: config.ntu13_training}
-    rows = run_tables((config.uestc, config.ntu13), lambda table: architecture_variants(trainings[table.label]),
-                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    tables = [DatasetTable(t.table, architecture_variants(t.training)) for t in config.tables.values()]
+    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, list(REPORTED))
 
 

@@ -53,19 +53,21 @@ does not converge); the two that need L_V are not measured.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 import numpy as np
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import Sampler
-from jaxmotion.evaluation.tables import TableDataset, reported_row
-from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.evaluation.tables import reported_row
+from jaxmotion.recipes.tables import DatasetTable, run_tables, table_dataset, table_key
 from jaxmotion.geometry.body import BodyModel, load_body_model
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig
 from jaxmotion.train.actor import ActorTraining, train_actor
-from jaxmotion.recipes.actor import table_training
+from jaxmotion.recipes.actor import ActorTable, table_training
 from jaxmotion.pipelines.actor import ActorGenerator
 from jaxmotion.train.loop import LoopConfig
 
@@ -112,18 +114,14 @@ CLAIMS = (
 
 @dataclasses.dataclass(frozen=True)
 class ActorLossesConfig(experiment.ProfileConfig):
-    uestc: TableDataset
-    uestc_training: ActorTraining  # every row's training but its loss terms
-    ntu13: TableDataset
-    ntu13_training: ActorTraining
+    tables: Mapping[str, ActorTable]  # uestc, ntu13: every row's training but its loss terms
     body_model: str | None = None  # an SMPL-format model file (.npz / .pkl): runs the L_V rows
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorLossesConfig:
-        return cls(table_dataset("UESTC", profile),
-                   table_training("UESTC", profile, CPU),
-                   table_dataset("NTU-13", profile),
-                   table_training("NTU-13", profile, CPU))
+        return cls(FrozenMap({table_key(label): ActorTable(table_dataset(label, profile),
+                                                           table_training(label, profile, CPU))
+                              for label in ("UESTC", "NTU-13")}))
 
 
 def row_name(label: str, has_body: bool) -> str:
@@ -176,13 +174,10 @@ class InPlaceActor(ActorGenerator):
 
 def run(config: ActorLossesConfig, ctx: experiment.RunContext):
     body = load_body_model(config.body_model) if config.body_model else None
-    trainings = {config.uestc.label: config.uestc_training, config.ntu13.label: config.ntu13_training}
-
-    def rows_of(table: TableDataset):
-        variants = loss_variants(trainings[table.label], body is not None)
-        return {name: WithBody(training, body) for name, training in variants.items()}
-
-    rows = run_tables((config.uestc, config.ntu13), rows_of, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    tables = [DatasetTable(t.table, {name: WithBody(training, body)
+                                     for name, training in loss_variants(t.training, body is not None).items()})
+              for t in config.tables.values()]
+    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
     table = {}
     for label, reported in REPORTED.items():
         name = row_name(label, body is not None)

@@ -46,14 +46,14 @@ FID_tr Action2Motion is lower (1.83 ± 0.14 against ACTOR's 2.31 ± 0.17).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
-from jaxmotion.evaluation.tables import TableDataset, interleave_reported, reported_row
-from jaxmotion.recipes.tables import run_tables, table_dataset
-from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.evaluation.tables import interleave_reported, reported_row
+from jaxmotion.recipes.tables import DatasetTable, run_tables, table_dataset, table_key
 from jaxmotion.recipes.a2m import a2m_table_training
-from jaxmotion.train.actor import ActorTraining
 from jaxmotion.recipes.actor import CPU_BASELINE, table_training
 
 # Table 3, means: FID_tr, Acc., Div., Multimod. on NTU-13, then on HumanAct12
@@ -83,27 +83,18 @@ CLAIMS = (
 
 @dataclasses.dataclass(frozen=True)
 class ActorSotaConfig(experiment.ProfileConfig):
-    ntu13: TableDataset
-    ntu13_training: ActorTraining
-    humanact12: TableDataset
-    humanact12_training: ActorTraining
-    a2m_ntu13: A2MTraining
-    a2m_humanact12: A2MTraining
+    tables: Mapping[str, DatasetTable]  # ntu13, humanact12: Action2Motion and ACTOR on each
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorSotaConfig:
-        return cls(table_dataset("NTU-13", profile), table_training("NTU-13", profile, CPU),
-                   table_dataset("HumanAct12", profile), table_training("HumanAct12", profile, CPU),
-                   a2m_table_training("NTU-13", profile), a2m_table_training("HumanAct12", profile))
+        return cls(FrozenMap({table_key(label): DatasetTable(table_dataset(label, profile), FrozenMap({
+            "Action2Motion": a2m_table_training(label, profile), "ACTOR": table_training(label, profile, CPU)}))
+            for label in ("NTU-13", "HumanAct12")}))
 
 
 def run(config: ActorSotaConfig, ctx: experiment.RunContext):
-    rows_by_label = {
-        config.ntu13.label: {"Action2Motion": config.a2m_ntu13, "ACTOR": config.ntu13_training},
-        config.humanact12.label: {"Action2Motion": config.a2m_humanact12, "ACTOR": config.humanact12_training},
-    }
-    rows = run_tables((config.ntu13, config.humanact12), lambda table: rows_by_label[table.label],
-                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    rows = run_tables(list(config.tables.values()), workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root,
+                      mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

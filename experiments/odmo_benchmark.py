@@ -40,23 +40,23 @@ Reported numbers: Table 1, means (the extracted text keeps the rows and columns 
 Profiles (:func:`jaxmotion.train.odmo.odmo_table_recipe`): ``paper`` is the authors' recipe (512 pairs,
 400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.train.odmo.CPU_RECIPE`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
 trajectory generator alone has 38 M parameters (its first layer maps 803 inputs to 803 × 59), beyond a
-20-30 minute budget on 2 cores with three ODMO trainings; add it with ``--set 'datasets=["HumanAct12","UESTC"]'``.
+20-30 minute budget on 2 cores with three ODMO trainings; add it with ``--set 'datasets=["humanact12","uestc"]'``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
 from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row
-from jaxmotion.recipes.tables import run_tables, table_dataset
-from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.recipes.tables import DatasetTable, run_tables, table_dataset, table_key
 from jaxmotion.recipes.a2m import a2m_table_training
-from jaxmotion.train.actor import ActorTraining
 from jaxmotion.recipes.actor import table_training
-from jaxmotion.recipes.odmo import ODMORecipe, benchmark_variants, odmo_table_recipe
+from jaxmotion.recipes.odmo import benchmark_variants, odmo_table_recipe
 
 LABELS = ("HumanAct12", "UESTC")
 
@@ -101,44 +101,32 @@ def _table(label: str, profile: str) -> TableDataset:
                                                        n_apd=True))
 
 
+def dataset_rows(label: str, profile: str) -> DatasetTable:
+    """Table 1 on one dataset: ODMO's rows (:func:`~jaxmotion.recipes.odmo.benchmark_variants`) and the baselines."""
+    rows = {**benchmark_variants(odmo_table_recipe(label, profile)), "A2M-xyz": a2m_table_training(label, profile),
+            "ACTOR": table_training(label, profile)}
+    return DatasetTable(_table(label, profile), FrozenMap(rows))
+
+
 @dataclasses.dataclass(frozen=True)
 class OdmoBenchmarkConfig(experiment.ProfileConfig):
-    datasets: tuple[str, ...]  # which of Table 1's datasets run (their fields below)
-    humanact12: TableDataset
-    humanact12_odmo: ODMORecipe
-    humanact12_a2m: A2MTraining
-    humanact12_actor: ActorTraining
-    uestc: TableDataset
-    uestc_odmo: ODMORecipe
-    uestc_a2m: A2MTraining
-    uestc_actor: ActorTraining
+    datasets: tuple[str, ...]  # which of Table 1's datasets run (keys of ``tables``: humanact12, uestc)
+    tables: Mapping[str, DatasetTable]
 
     def __post_init__(self):
-        unknown = set(self.datasets) - set(LABELS)
+        unknown = set(self.datasets) - set(self.tables)
         if unknown or not self.datasets:
-            raise ValueError(f"datasets: expected a non-empty subset of {LABELS}, got {self.datasets}")
+            raise ValueError(f"datasets: expected a non-empty subset of {list(self.tables)}, got {self.datasets}")
 
     @classmethod
     def for_profile(cls, profile: str) -> OdmoBenchmarkConfig:
-        fields = {}
-        for label in LABELS:
-            name = label.lower()
-            fields[name] = _table(label, profile)
-            fields[f"{name}_odmo"] = odmo_table_recipe(label, profile)
-            fields[f"{name}_a2m"] = a2m_table_training(label, profile)
-            fields[f"{name}_actor"] = table_training(label, profile)
-        return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS, **fields)
-
-
-def rows_of(config: OdmoBenchmarkConfig, label: str) -> dict:
-    name = label.lower()
-    return {**benchmark_variants(getattr(config, f"{name}_odmo")), "A2M-xyz": getattr(config, f"{name}_a2m"),
-            "ACTOR": getattr(config, f"{name}_actor")}
+        chosen = ("HumanAct12",) if profile == "cpu" else LABELS
+        return cls(datasets=tuple(table_key(label) for label in chosen),
+                   tables=FrozenMap({table_key(label): dataset_rows(label, profile) for label in LABELS}))
 
 
 def run(config: OdmoBenchmarkConfig, ctx: experiment.RunContext):
-    tables = [getattr(config, label.lower()) for label in LABELS if label in config.datasets]
-    rows = run_tables(tables, lambda table: rows_of(config, table.label), workdir=ctx.workdir, key=ctx.key,
+    rows = run_tables([config.tables[name] for name in config.datasets], workdir=ctx.workdir, key=ctx.key,
                       data_root=ctx.data_root, columns=ODMO_COLUMNS, mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, ROWS)
 

@@ -34,12 +34,14 @@ HumanAct12 only).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.data.motion import Motion
 from jaxmotion.data.pipeline import BatchSpec, class_windows, map_in_chunks
 from jaxmotion.data.preview import filmstrip
@@ -51,7 +53,7 @@ from jaxmotion.metrics.apd import mode_homogeneity
 from jaxmotion.train.actor import ActorTraining
 from jaxmotion.recipes.actor import table_training
 from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
-from jaxmotion.recipes.tables import fit_generator
+from jaxmotion.recipes.tables import fit_generator, table_key
 from jaxmotion.viz import save_scatter
 
 LABELS = ("HumanAct12", "UESTC")
@@ -78,21 +80,21 @@ class ModesTable:
 
 @dataclasses.dataclass(frozen=True)
 class OdmoModesConfig(experiment.ProfileConfig):
-    datasets: tuple[str, ...]
-    humanact12: ModesTable
-    uestc: ModesTable
+    datasets: tuple[str, ...]  # which of Table 3's datasets run (keys of ``tables``: humanact12, uestc)
+    tables: Mapping[str, ModesTable]
 
     @classmethod
     def for_profile(cls, profile: str) -> OdmoModesConfig:
         tables = {}
         for label in LABELS:
             smoke = profile == "smoke"
-            tables[label.lower()] = ModesTable(
+            tables[table_key(label)] = ModesTable(
                 label, TableData(DATASETS[label], count=80 if smoke else None, test_split=False),
                 odmo_table_recipe(label, profile), table_training(label, profile),
                 per_class=12 if smoke else {"HumanAct12": 250, "UESTC": 200}[label],
                 repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
-        return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS, **tables)
+        chosen = ("HumanAct12",) if profile == "cpu" else LABELS
+        return cls(datasets=tuple(table_key(label) for label in chosen), tables=FrozenMap(tables))
 
 
 def actor_means(params, training: ActorTraining, windows: dict, chunk: int = 512) -> np.ndarray:
@@ -160,8 +162,7 @@ def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
 
 
 def run(config: OdmoModesConfig, ctx: experiment.RunContext):
-    measured = side_by_side({label: run_table(getattr(config, label.lower()), ctx)
-                             for label in LABELS if label in config.datasets})
+    measured = side_by_side({config.tables[name].label: run_table(config.tables[name], ctx) for name in config.datasets})
     reported = {row: {f"{label} mode-homogeneity": value for label, value in zip(LABELS, values, strict=True)}
                 for row, values in REPORTED.items()}
     return interleave_reported(measured, reported, ROWS)

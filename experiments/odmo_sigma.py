@@ -21,13 +21,15 @@ and FID": checked as 0.05 beating 6.25 on both. cpu profile: HumanAct12 only, th
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from typing import Literal
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import ProtocolConfig
 from jaxmotion.evaluation.tables import ODMO_COLUMNS, TableDataset, interleave_reported, reported_row
-from jaxmotion.recipes.tables import run_tables, table_dataset
+from jaxmotion.recipes.tables import DatasetTable, run_tables, table_dataset, table_key
 from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
 
 LABELS = ("HumanAct12", "MoCap", "UESTC")
@@ -58,44 +60,51 @@ CLAIMS = tuple(Claim(row_name(0.05), op, row_name(6.25), f"{label} {column}", "S
                for label in LABELS for op, column in ((">", "Acc"), ("<", "FID_tr")))
 
 
-@dataclasses.dataclass(frozen=True)
-class OdmoSigmaConfig(experiment.ProfileConfig):
-    datasets: tuple[str, ...]
-    sigmas: tuple[float, ...]
-    prior: Literal["std", "variance"]  # how prior_scale reads the sweep's values (code: std)
-    humanact12: TableDataset
-    humanact12_odmo: ODMORecipe
-    mocap: TableDataset
-    mocap_odmo: ODMORecipe
-    uestc: TableDataset
-    uestc_odmo: ODMORecipe
-
-    @classmethod
-    def for_profile(cls, profile: str) -> OdmoSigmaConfig:
-        fields = {}
-        for label in LABELS:
-            duration = 100 if label == "MoCap" else 60
-            protocol = dataclasses.replace(ProtocolConfig.odmo(PER_CLASS[label]), duration=duration, n_apd=False)
-            fields[label.lower()] = table_dataset(
-                label, profile, evaluator=EVALUATORS[label], paper_protocol=protocol,
-                cpu_protocol=dataclasses.replace(protocol, repetitions=5),
-                smoke_protocol=ProtocolConfig(repetitions=2, sampling="per_class", per_class=3, duration=duration,
-                                              chunk=64))
-            fields[f"{label.lower()}_odmo"] = odmo_table_recipe(label, profile)
-        return cls(datasets=("HumanAct12",) if profile == "cpu" else LABELS,
-                   sigmas=(6.25, 0.05) if profile == "smoke" else SIGMAS, prior="std", **fields)
-
-
 def sweep(odmo: ODMORecipe, sigmas, prior: str) -> dict[str, ODMORecipe]:
+    """One row per prior scale: ``odmo`` with its loss's ``prior_scale`` set (read as ``prior``: std or variance)."""
     losses = odmo.training.losses
     return {row_name(s): dataclasses.replace(odmo, training=dataclasses.replace(
         odmo.training, losses=dataclasses.replace(losses, prior_scale=s, prior=prior))) for s in sigmas}
 
 
+@dataclasses.dataclass(frozen=True)
+class SigmaTable:
+    """One dataset of Table S1: where it is scored and the ODMO recipe the sweep varies."""
+
+    table: TableDataset
+    odmo: ODMORecipe
+
+
+def sigma_table(label: str, profile: str) -> SigmaTable:
+    duration = 100 if label == "MoCap" else 60
+    protocol = dataclasses.replace(ProtocolConfig.odmo(PER_CLASS[label]), duration=duration, n_apd=False)
+    table = table_dataset(label, profile, evaluator=EVALUATORS[label], paper_protocol=protocol,
+                          cpu_protocol=dataclasses.replace(protocol, repetitions=5),
+                          smoke_protocol=ProtocolConfig(repetitions=2, sampling="per_class", per_class=3,
+                                                        duration=duration, chunk=64))
+    return SigmaTable(table, odmo_table_recipe(label, profile))
+
+
+@dataclasses.dataclass(frozen=True)
+class OdmoSigmaConfig(experiment.ProfileConfig):
+    datasets: tuple[str, ...]  # which of Table S1's datasets run (keys of ``tables``: humanact12, mocap, uestc)
+    sigmas: tuple[float, ...]
+    prior: Literal["std", "variance"]  # how prior_scale reads the sweep's values (code: std)
+    tables: Mapping[str, SigmaTable]
+
+    @classmethod
+    def for_profile(cls, profile: str) -> OdmoSigmaConfig:
+        chosen = ("HumanAct12",) if profile == "cpu" else LABELS
+        return cls(datasets=tuple(table_key(label) for label in chosen),
+                   sigmas=(6.25, 0.05) if profile == "smoke" else SIGMAS, prior="std",
+                   tables=FrozenMap({table_key(label): sigma_table(label, profile) for label in LABELS}))
+
+
 def run(config: OdmoSigmaConfig, ctx: experiment.RunContext):
-    tables = [getattr(config, label.lower()) for label in LABELS if label in config.datasets]
-    rows = run_tables(tables, lambda t: sweep(getattr(config, f"{t.label.lower()}_odmo"), config.sigmas, config.prior),
-                      workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, columns=COLUMNS, mesh=ctx.mesh)
+    tables = [DatasetTable(config.tables[name].table, sweep(config.tables[name].odmo, config.sigmas, config.prior))
+              for name in config.datasets]
+    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, columns=COLUMNS,
+                      mesh=ctx.mesh)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

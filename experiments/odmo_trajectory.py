@@ -28,18 +28,20 @@ Figure 4 (``figures/`` in the run folder): top views of one code sent to 10 end 
 the class sent to one end point, for the first class of each dataset.
 
 Differences: the embedded stand-ins (24 joints; CMU MoCap's 20 in the paper) and their recognisers. The cpu
-profile runs HumanAct12 and MoCap (UESTC: ``--set 'datasets=["MoCap","HumanAct12","UESTC"]'``).
+profile runs HumanAct12 and MoCap (UESTC: ``--set 'datasets=["mocap","humanact12","uestc"]'``).
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion import experiment
+from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
 from jaxmotion.recipes.evaluators import evaluator_spec
@@ -48,7 +50,7 @@ from jaxmotion.evaluation.tables import TableData, interleave_reported, real_set
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.pipelines.odmo import ODMOGenerator, customize_end, end_point_trials
 from jaxmotion.recipes.odmo import ODMORecipe, odmo_table_recipe
-from jaxmotion.recipes.tables import fit_generator
+from jaxmotion.recipes.tables import fit_generator, table_key
 from jaxmotion.viz import save_trajectories
 
 LABELS = ("MoCap", "HumanAct12", "UESTC")
@@ -90,22 +92,21 @@ def ablations(odmo: ODMORecipe) -> dict[str, ODMORecipe]:
 
 @dataclasses.dataclass(frozen=True)
 class OdmoTrajectoryConfig(experiment.ProfileConfig):
-    datasets: tuple[str, ...]
-    mocap: TrajectoryTable
-    humanact12: TrajectoryTable
-    uestc: TrajectoryTable
+    datasets: tuple[str, ...]  # which of Table 4's datasets run (keys of ``tables``: mocap, humanact12, uestc)
+    tables: Mapping[str, TrajectoryTable]
 
     @classmethod
     def for_profile(cls, profile: str) -> OdmoTrajectoryConfig:
         tables = {}
         for label in LABELS:
             smoke = profile == "smoke"
-            tables[label.lower()] = TrajectoryTable(
+            tables[table_key(label)] = TrajectoryTable(
                 label, TableData(paper_dataset(label).stand_in, count=80 if smoke else None, test_split=False),
                 evaluator_spec(EVALUATORS[label], profile), odmo_table_recipe(label, profile),
                 trials=2 if smoke else 40, points=3 if smoke else 10,
                 repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
-        return cls(datasets=("MoCap", "HumanAct12") if profile == "cpu" else LABELS, **tables)
+        chosen = ("MoCap", "HumanAct12") if profile == "cpu" else LABELS
+        return cls(datasets=tuple(table_key(label) for label in chosen), tables=FrozenMap(tables))
 
 
 def _figures(odmo: ODMOGenerator, folder, label: str, key: jax.Array) -> None:
@@ -152,8 +153,7 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
 
 
 def run(config: OdmoTrajectoryConfig, ctx: experiment.RunContext):
-    measured = side_by_side({label: run_table(getattr(config, label.lower()), ctx)
-                             for label in LABELS if label in config.datasets})
+    measured = side_by_side({config.tables[name].label: run_table(config.tables[name], ctx) for name in config.datasets})
     reported = {row: {f"{label} {column}": value for label, values in by_label.items()
                       for column, value in zip(("Acc", "dist_e"), values, strict=True)}
                 for row, by_label in REPORTED.items()}

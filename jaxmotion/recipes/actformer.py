@@ -10,11 +10,16 @@ from pathlib import Path
 import jax
 
 from jaxmotion.data import synthetic
+from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models.actformer import GeneratorConfig
 from jaxmotion.models.csgn import CSGNConfig
 from jaxmotion.pipelines.actformer import ActFormerGenerator
+from jaxmotion.recipes.a2m import a2m_table_training
+from jaxmotion.recipes.actor import table_training
+from jaxmotion.train.a2m import A2MTraining
+from jaxmotion.train.actor import ActorTraining
 from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.train.actformer import ActFormerTraining, train_actformer
 from jaxmotion.train.loop import LoopConfig
@@ -96,3 +101,21 @@ def csgn_table_training(dataset: str, profile: str, temporal: str = "conv") -> A
     if profile == "smoke":
         generator = dataclasses.replace(generator, widths=(8, 8, 8, 8), heads=2)
     return dataclasses.replace(training, generator=generator)
+
+
+# --- the baselines of ActFormer's tables, on ActFormer's data in the dataset's frame ------------------
+
+
+def actor_baseline(label: str, profile: str) -> ActorTraining:
+    """ACTOR on ``label``'s rotations in the dataset's frame (the table recipe of its class count)."""
+    base = table_training("NTU-13", profile)
+    classes = paper_dataset(label).num_classes
+    return dataclasses.replace(base, model=dataclasses.replace(base.model, num_classes=classes), canonical=False)
+
+
+def a2m_baseline(label: str, profile: str, joints: int, persons: int = 1) -> A2MTraining:
+    """Action2Motion on ``label``'s ``joints`` positions in the dataset's frame (several persons: all their
+    joints side by side in each frame, as the paper scales the baselines to NTU-2P)."""
+    base = a2m_table_training("NTU-13", profile)
+    model = dataclasses.replace(base.model, pose_dim=3 * joints * persons, num_classes=paper_dataset(label).num_classes)
+    return dataclasses.replace(base, model=model, canonical=False)

@@ -11,6 +11,7 @@ import jax
 
 from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.evaluation.tables import TableDataset
 from jaxmotion.losses.actor import ActorLossWeights
 from jaxmotion.models.actor import ActorConfig, AnyActorParams
 from jaxmotion.pipelines.actor import ActorGenerator
@@ -31,6 +32,15 @@ class ActorRecipe:
 
     def generator(self, params: AnyActorParams, facts: DataFacts) -> ActorGenerator:
         return ActorGenerator(self.training.model, params, facts, self.training.window)
+
+
+@dataclasses.dataclass(frozen=True)
+class ActorTable:
+    """One dataset of an ACTOR table whose rows are variants of one training (Tables 1 and 2): where it is scored
+    and the training every row changes."""
+
+    table: TableDataset
+    training: ActorTraining
 
 
 UESTC_EPOCH = paper_dataset("UESTC").clips // 20  # steps per epoch at batch 20

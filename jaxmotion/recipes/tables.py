@@ -20,6 +20,7 @@ with, the protocol), :func:`actformer_table` (ActFormer's protocol and evaluator
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
@@ -169,6 +170,21 @@ def actformer_table(label: str, profile: str) -> TableDataset:
     return dataclasses.replace(table, person_evaluator=evaluator_spec(person, profile))
 
 
+@dataclasses.dataclass(frozen=True)
+class DatasetTable:
+    """One dataset of a paper table: where and how it is scored (``table``) and its rows, row name -> what trains
+    (a trainer config or a recipe config; :func:`recipe_for`). Overrides reach a row by name:
+    ``--set tables.ntu13.rows.ActFormer.loop.steps=100``."""
+
+    table: TableDataset
+    rows: Mapping[str, Row]
+
+
+def table_key(label: str) -> str:
+    """A paper dataset's key in a table's mapping, usable in a ``--set`` path: ``"NTU-13"`` -> ``"ntu13"``."""
+    return re.sub(r"[^a-z0-9]", "", label.lower())
+
+
 #: What :func:`run_table` hands its ``pictures`` hook: the dataset, its rows' trained samplers, its train split.
 PicturesHook = Callable[[TableDataset, Mapping[str, Sampler], MotionDataset], None]
 
@@ -193,18 +209,16 @@ def run_table(rows: Mapping[str, Row | Recipe], table: TableDataset, *, workdir:
     return scored
 
 
-def run_tables(tables: Sequence[TableDataset], rows_of: Callable[[TableDataset], Mapping[str, Row | Recipe]], *,
-               workdir: str | Path, key: Callable[[str], jax.Array], data_root: str | None = None,
-               columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None,
+def run_tables(tables: Sequence[DatasetTable], *, workdir: str | Path, key: Callable[[str], jax.Array],
+               data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None,
                pictures: PicturesHook | None = None) -> dict[str, dict[str, Any]]:
-    """A table over several datasets, side by side: on each, the rows ``rows_of(dataset)`` train in
-    ``<workdir>/<slug(label)>/`` from ``key("train <label>")`` and are scored from ``key("eval <label>")``
-    (``pictures``: :func:`run_table`'s hook, on each)."""
-    labels = [table.label for table in tables]
+    """A table over several datasets, side by side: on each, its rows train in ``<workdir>/<slug(label)>/`` from
+    ``key("train <label>")`` and are scored from ``key("eval <label>")`` (``pictures``: :func:`run_table`'s hook,
+    on each)."""
+    labels = [dataset.table.label for dataset in tables]
     if len({slug(label) for label in labels}) != len(labels):
         raise ValueError(f"tables: labels must give distinct folder names, got {labels}")
-    return side_by_side({table.label: run_table(rows_of(table), table, workdir=Path(workdir) / slug(table.label),
-                                                train_key=key(f"train {table.label}"),
-                                                eval_key=key(f"eval {table.label}"), data_root=data_root,
-                                                columns=columns, mesh=mesh, pictures=pictures)
-                         for table in tables})
+    return side_by_side({label: run_table(dataset.rows, dataset.table, workdir=Path(workdir) / slug(label),
+                                          train_key=key(f"train {label}"), eval_key=key(f"eval {label}"),
+                                          data_root=data_root, columns=columns, mesh=mesh, pictures=pictures)
+                         for label, dataset in zip(labels, tables)})
