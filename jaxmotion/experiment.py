@@ -40,7 +40,7 @@ from jaxmotion import config as cfglib
 from jaxmotion import provenance
 from jaxmotion.data.export import FORMATS as EXPORT_FORMATS
 from jaxmotion.data.export import export_motions
-from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.motion import MotionDataset, on_the_floor
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.table import format_table
@@ -85,9 +85,10 @@ class RunContext:
 
     def export(self, motions: MotionDataset, name: str = "generated") -> MotionDataset:
         """Write generated ``motions`` to ``<workdir>/export/<name>/`` in the ``--export`` formats (none: do
-        nothing); return them, so a call can wrap the expression that makes them."""
+        nothing), placed on the floor (:func:`~jaxmotion.data.motion.on_the_floor`); return them as given, so a
+        call can wrap the expression that makes them."""
         if self.export_formats:
-            paths = export_motions(self.workdir / "export" / name, motions, formats=self.export_formats)
+            paths = export_motions(self.workdir / "export" / name, on_the_floor(motions), formats=self.export_formats)
             print(f"[{self.experiment}] exported {len(motions)} motions as {', '.join(self.export_formats)} "
                   f"({len(paths)} files) to {self.workdir / 'export' / name}", file=sys.stderr)
         return motions

@@ -15,7 +15,9 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.export import export_motions, load_bvh
 from jaxmotion.geometry import axis_angle_to_matrix, forward_kinematics
-from jaxmotion.pipelines.artefacts import ArtefactError, as_key, on_the_floor
+from jaxmotion.data.motion import on_the_floor, to_dataset
+from jaxmotion.geometry.skeletons import SMPL24
+from jaxmotion.pipelines.artefacts import ArtefactError, as_key
 from jaxmotion.recipes.a2m import a2m_table_training
 from jaxmotion.recipes.actformer import actformer_table_training, csgn_table_training
 from jaxmotion.recipes.actor import smoke_training
@@ -80,14 +82,19 @@ def test_an_exported_bvh_of_a_trained_model_stands_on_the_floor(tmp_path):
 
 
 def test_on_the_floor_lifts_each_motion_by_its_lowest_first_frame_joint():
-    joints = np.zeros((2, 3, 4, 3), np.float32)
-    joints[0, :, :, 1] = [[-0.9, 0.2, 0.5, 1.0]] * 3
-    joints[1, 0, :, 1] = [0.3, 0.4, 0.5, 0.6]
-    joints[1, 1:, :, 1] = -2.0  # later frames may go lower: only the first frame counts
-    out = on_the_floor({"joints": joints, "translation": joints[:, :, 0].copy()})
-    np.testing.assert_allclose(out["joints"][:, 0, :, 1].min(axis=1), [0.0, 0.0], atol=1e-7)
-    np.testing.assert_allclose(out["joints"][..., 0] - joints[..., 0], 0.0)  # only y moves
-    np.testing.assert_allclose(out["translation"], out["joints"][:, :, 0])
+    rng = np.random.default_rng(0)
+    joints = rng.normal(size=(2, 3, 24, 3)).astype(np.float32)
+    joints[1, 1:, :, 1] = -5.0  # later frames may go lower: only the first frame counts
+    batch = {"joints": joints, "translation": joints[:, :, 0].copy(), "lengths": np.array([3, 2]),
+             "actions": np.array([0, 1])}
+    data = to_dataset(batch, SMPL24, ("a", "b"), 20.0)
+    placed = on_the_floor(data)
+    firsts = placed.joints[placed.starts[:-1]]
+    np.testing.assert_allclose(firsts[..., 1].min(axis=1), [0.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(placed.joints[..., [0, 2]], data.joints[..., [0, 2]])  # only y moves
+    lift = placed.joints - data.joints
+    np.testing.assert_allclose(lift[:3], np.broadcast_to(lift[0, 0], (3, 24, 3)), atol=1e-6)  # one lift per motion
+    np.testing.assert_allclose(placed.translation, placed.joints[:, 0])
 
 
 def test_keys_and_int_seeds_are_accepted_and_bad_ones_refused():

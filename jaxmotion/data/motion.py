@@ -330,3 +330,16 @@ def _expect(array: np.ndarray, shape: tuple[int, ...], field: str, named: str) -
     if not isinstance(array, np.ndarray) or array.shape != shape:
         got = getattr(array, "shape", type(array).__name__)
         raise ValueError(f"{field}: expected shape {named} = {shape}, got {got}")
+
+
+def on_the_floor(data: MotionDataset) -> MotionDataset:
+    """``data`` placed as people stand: each sequence lifted along +Y so that its lowest joint at its first frame
+    (over all its persons) touches the floor, y = 0. Joints and translation move; rotations do not. Generated
+    motions are placed so before they are drawn or exported (a model's own frame may put the pelvis at 0)."""
+    firsts = data.joints[data.starts[:-1]]  # [N, (P,) J, 3]
+    lift = -firsts[..., 1].reshape(len(data), -1).min(axis=1)  # [N]
+    per_frame = np.repeat(lift, np.diff(data.starts)).astype(np.float32)  # [F]
+    up = np.array([0.0, 1.0, 0.0], np.float32)
+    joints = data.joints + per_frame.reshape((-1,) + (1,) * (data.joints.ndim - 1)) * up
+    translation = data.translation + per_frame.reshape((-1,) + (1,) * (data.translation.ndim - 1)) * up
+    return dataclasses.replace(data, joints=joints, translation=translation)

@@ -16,7 +16,7 @@ parses is complete. Reading rebuilds each pytree on a template the method makes 
 does not fit.
 
 Every method's generator (:class:`Generator`) has ``generate(key, actions, durations)`` returning a
-:class:`~jaxmotion.data.motion.MotionDataset` placed on the floor (:func:`on_the_floor`), ``sampler()`` (the
+:class:`~jaxmotion.data.motion.MotionDataset` placed on the floor (:func:`~jaxmotion.data.motion.on_the_floor`), ``sampler()`` (the
 evaluation protocol's sampler, the motions as the method writes them) and ``save(folder)``;
 :func:`jaxmotion.pipelines.load.load_generator` opens any of them.
 """
@@ -36,7 +36,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion import config as cfglib
-from jaxmotion.data.motion import SKELETONS, MotionDataset, to_dataset
+from jaxmotion.data.motion import SKELETONS, MotionDataset, on_the_floor, to_dataset
 from jaxmotion.files import write_atomic, write_json
 from jaxmotion.geometry.skeletons import Skeleton
 
@@ -86,7 +86,7 @@ class SamplingGenerator:
     def generate(self, key: jax.Array | int, actions: Sequence[int], durations: Sequence[int] | None = None
                  ) -> MotionDataset:
         """One motion per ``actions[n]`` (``durations[n]`` frames, default :attr:`frames`), row n drawn from
-        ``fold_in(key, n)``, as the library's motion record placed on the floor (:func:`on_the_floor`). ``key``:
+        ``fold_in(key, n)``, as the library's motion record placed on the floor. ``key``:
         a jax.random key or an int seed."""
         actions = np.asarray(actions, np.int32).reshape(-1)
         if actions.size == 0:
@@ -129,26 +129,11 @@ def as_key(key: jax.Array | int, where: str = "key") -> jax.Array:
                      f"{getattr(key, 'shape', '')}")
 
 
-def on_the_floor(motions: Mapping[str, Any]) -> dict[str, np.ndarray]:
-    """Motions placed as the training data stand: each lifted along +Y so that its lowest joint at its first
-    frame (over all its persons) touches the floor, y = 0. ``joints [N, (P,) T, J, 3]`` and ``translation
-    [N, (P,) T, 3]`` move; rotations do not."""
-    joints = np.asarray(motions["joints"], np.float32)
-    first = joints[..., 0, :, 1]  # [N, (P,) J]: heights at frame 0
-    lift = -first.reshape(len(joints), -1).min(axis=1)  # [N]
-    shape = (len(joints),) + (1,) * (joints.ndim - 1)
-    up = np.array([0.0, 1.0, 0.0], np.float32)
-    out = dict(motions)
-    out["joints"] = joints + lift.reshape(shape).astype(np.float32) * up
-    translation = np.asarray(motions["translation"], np.float32)
-    out["translation"] = translation + lift.reshape(shape[:-1]).astype(np.float32) * up
-    return out
-
-
 def motion_records(motions: Mapping[str, Any], facts: DataFacts, method: str) -> MotionDataset:
-    """A sampler's batch dict as the library's motion record, placed on the floor."""
-    return to_dataset(on_the_floor(motions), facts.skeleton, facts.class_names, facts.fps, name=method,
-                      split="generated")
+    """A sampler's batch dict as the library's motion record, placed on the floor
+    (:func:`~jaxmotion.data.motion.on_the_floor`)."""
+    return on_the_floor(to_dataset(motions, facts.skeleton, facts.class_names, facts.fps, name=method,
+                                   split="generated"))
 
 
 # --- writing -------------------------------------------------------------------------------------------

@@ -13,7 +13,7 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from jaxmotion.data.motion import MotionDataset, to_dataset
+from jaxmotion.data.motion import MotionDataset, on_the_floor, to_dataset
 from jaxmotion.data.preview import render_grid
 from jaxmotion.evaluation.protocol import Sampler
 from jaxmotion.geometry.skeletons import Skeleton
@@ -26,7 +26,8 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
     """Save a grid of generated motions, one row per action (``actions``: a list of class indices, or a count
     meaning the first ones), ``per_action`` ``duration``-frame samples per row, rendered by
     :func:`~jaxmotion.data.preview.render_grid`: an animated GIF, or with ``still`` a PNG of key poses (several
-    persons drawn together, each in its own colours). Returns the generated motions (mode k = sample k)."""
+    persons drawn together, each in its own colours). Returns the generated motions (mode k = sample k), placed
+    on the floor (:func:`~jaxmotion.data.motion.on_the_floor`)."""
     actions = list(range(actions)) if isinstance(actions, int) else [int(a) for a in actions]
     if not actions:
         raise ValueError("actions: expected at least one action (a count >= 1 or a non-empty list)")
@@ -40,9 +41,9 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
         motions = {k: np.asarray(v) for k, v in sampler(key, labels, durations).items()}
         bar.advance(note=f"{len(labels)} motions")
     samples = tuple(f"sample {k + 1}" for k in range(per_action))
-    data = to_dataset({**motions, "lengths": durations, "actions": labels}, skeleton, class_names, fps,
-                      name="generated", modes=np.arange(len(labels), dtype=np.int32) % per_action,
-                      names=tuple(f"{class_names[a]} {k % per_action + 1}" for k, a in enumerate(labels)),
-                      mode_names=(samples,) * len(class_names))
+    data = on_the_floor(to_dataset({**motions, "lengths": durations, "actions": labels}, skeleton, class_names, fps,
+                                   name="generated", modes=np.arange(len(labels), dtype=np.int32) % per_action,
+                                   names=tuple(f"{class_names[a]} {k % per_action + 1}" for k, a in enumerate(labels)),
+                                   mode_names=(samples,) * len(class_names)))
     render_grid(data, actions, str(path), still=still)
     return data
