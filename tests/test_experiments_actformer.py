@@ -27,7 +27,7 @@ def test_single_person_table_has_the_paper_rows_and_each_baseline_where_it_reads
     assert list(rows["Action2Motion"]) == _columns("NTU-13")  # it makes no rotations for BABEL's evaluator
     assert list(rows["ActFormer (reported)"]) == [c for label in actformer_single.LABELS for c in _columns(label)]
     assert rows["ActFormer (reported)"]["NTU-1P FID_m"] == 12.53
-    repetitions = actformer_single.ActFormerSingleConfig.smoke().ntu13.protocol.repetitions
+    repetitions = actformer_single.ActFormerSingleConfig.smoke().tables["ntu13"].table.protocol.repetitions
     for name in ("Real", "Action2Motion", "CSGN", "ACTOR", "ActFormer"):
         for column, cell in rows[name].items():
             assert cell["n"] == repetitions and np.isfinite(cell["mean"]), (name, column)

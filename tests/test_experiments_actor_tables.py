@@ -31,7 +31,7 @@ def test_losses_table_has_the_paper_rows_and_no_numbers_for_the_vertex_losses(tm
                           "L_R + L_J (stand-in for L_R + L_V)"]
     for name in ("Real", "L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"):
         assert list(rows[name]) == UESTC + NTU13
-        assert rows[name]["UESTC FID_test"]["n"] == actor_losses.ActorLossesConfig.smoke().uestc.protocol.repetitions
+        assert rows[name]["UESTC FID_test"]["n"] == actor_losses.ActorLossesConfig.smoke().tables["uestc"].table.protocol.repetitions
     for name in ("L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"):
         for prefix in ("UESTC ", "NTU-13 "):
             assert_generations_vary(rows, name, prefix)
@@ -69,7 +69,7 @@ def test_sota_table_scores_action2motion_and_actor_beside_the_reported_baselines
 
 
 def test_loss_rows_never_read_the_translation_and_need_a_body_model_for_the_vertices():
-    training = actor_losses.ActorLossesConfig.smoke().ntu13_training
+    training = actor_losses.ActorLossesConfig.smoke().tables["ntu13"].training
     without, with_body = actor_losses.loss_variants(training, False), actor_losses.loss_variants(training, True)
     assert list(without) == ["L_J", "L_R", "L_R + L_J (stand-in for L_R + L_V)"]
     assert list(with_body) == ["L_J", "L_R", "L_V", "L_R + L_V", "L_R + L_J (stand-in for L_R + L_V)"]

@@ -1,5 +1,7 @@
 """ODMO's tables run end to end in their smoke profiles, laid out as the paper lays them out."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
@@ -43,14 +45,16 @@ def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_p
 
 
 def test_ablation_rows_change_one_thing_each():
-    odmo = odmo_benchmark.OdmoBenchmarkConfig.smoke().humanact12_odmo
+    config = odmo_benchmark.OdmoBenchmarkConfig.smoke()
+    odmo = config.tables["humanact12"].rows["ODMO"]
     rows = benchmark_variants(odmo)
-    assert rows["ODMO_conv"].training == odmo.training and rows["ODMO_conv"].sampling == "conventional"
-    assert rows["-r_e"].model.use_end is False and rows["-r_e"].losses == odmo.losses
-    assert rows["-L_es"].losses.contrastive is False and rows["-L_es"].model == odmo.model
+    assert dict(config.tables["humanact12"].rows) == {**rows, "A2M-xyz": config.tables["humanact12"].rows["A2M-xyz"],
+                                                      "ACTOR": config.tables["humanact12"].rows["ACTOR"]}
+    assert rows["ODMO_conv"].fit_key == odmo.fit_key and rows["ODMO_conv"].sampling == "conventional"
+    assert rows["-r_e"].training.model.use_end is False and rows["-r_e"].training.losses == odmo.training.losses
+    assert rows["-L_es"].training.losses.contrastive is False and rows["-L_es"].training.model == odmo.training.model
     with pytest.raises(ValueError, match="datasets"):
-        odmo_benchmark.OdmoBenchmarkConfig.for_profile("smoke").__class__(
-            **{**odmo_benchmark.OdmoBenchmarkConfig.smoke().__dict__, "datasets": ("NTU-13",)})
+        dataclasses.replace(config, datasets=("ntu13",))
 
 
 @pytest.mark.slow
@@ -102,6 +106,7 @@ def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path, 
 
     rows = _smoke(odmo_sigma, tmp_path, monkeypatch, cache)
     assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
-    sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().humanact12_odmo, (6.25, 0.05), "std")
-    assert [t.losses.prior_std for t in sweep.values()] == [6.25, 0.05]
-    assert odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].losses.prior_std == pytest.approx(0.5)
+    sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().tables["humanact12"].odmo, (6.25, 0.05), "std")
+    assert [r.training.losses.prior_std for r in sweep.values()] == [6.25, 0.05]
+    assert (odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].training.losses.prior_std
+            == pytest.approx(0.5))
