@@ -194,7 +194,7 @@ def check_train_parity(data, k_init: jax.Array, k_loop: jax.Array) -> dict:
 def check_generate_parity(params, model, codes, actions, ends) -> float:
     """max |Δ poses| / max |poses| between the two samplers on the same codes (the first 256 rows)."""
     rows = slice(0, 256)
-    ours = np.asarray(generate(params, codes[rows], actions[rows], ends[rows], CONFIG)["poses"])
+    ours = np.asarray(generate(CONFIG, params, codes[rows], actions[rows], ends[rows])["poses"])
     theirs = peer.generate(model, *(torch.from_numpy(np.array(a[rows])) for a in (codes, actions, ends)))["poses"]
     return float(np.abs(ours - theirs.numpy()).max() / np.abs(ours).max())
 
@@ -243,7 +243,7 @@ def bench_generate(per_class: int, repeats: int) -> tuple[dict, dict]:
     codes, actions, ends = sampling_inputs(per_class)
 
     def sample(params, codes, actions, ends):
-        return generate(params, codes, actions, ends, CONFIG)
+        return generate(CONFIG, params, codes, actions, ends)
 
     theirs, check = None, None
     if peer is not None:
@@ -341,7 +341,7 @@ def bench_breakdown(data, pairs: int, repeats: int) -> list[tuple[str, dict, dic
     end, path = poses[:, -1, :3], poses[..., :3]
 
     def encoder(params):
-        mu, logvar, _ = encode(params, stats, poses, CONFIG, train=True, groups=2)
+        mu, logvar, _ = encode(CONFIG, params, stats, poses, train=True, groups=2)
         return jnp.square(mu).sum() + jnp.square(logvar).sum()
 
     def trajectory(params):

@@ -88,11 +88,11 @@ def test_encoder_reads_the_motion_relative_to_its_root():
     lmp = odmo.local_movement(poses)
     np.testing.assert_array_equal(lmp[..., :3], 0)
     shift = jnp.tile(jax.random.normal(jax.random.key(3), (4, TINY.num_frames, 3)), TINY.num_joints)
-    moved = odmo.encode(params, stats, poses + shift, TINY, train=False)
-    np.testing.assert_allclose(moved[0], odmo.encode(params, stats, poses, TINY, train=False)[0], atol=1e-5)
+    moved = odmo.encode(TINY, params, stats, poses + shift, train=False)
+    np.testing.assert_allclose(moved[0], odmo.encode(TINY, params, stats, poses, train=False)[0], atol=1e-5)
     whole = dataclasses.replace(TINY, lmp_input=False)
-    assert not np.allclose(odmo.encode(params, stats, poses + shift, whole, train=False)[0],
-                           odmo.encode(params, stats, poses, whole, train=False)[0], atol=1e-3)
+    assert not np.allclose(odmo.encode(whole, params, stats, poses + shift, train=False)[0],
+                           odmo.encode(whole, params, stats, poses, train=False)[0], atol=1e-3)
 
 
 def test_condition_is_the_class_major_outer_product_and_integration_starts_at_the_origin():
@@ -141,28 +141,28 @@ def test_the_end_root_steers_the_trajectory_only_with_use_end():
 def test_pair_halves_are_normalised_apart_as_two_passes():
     params, stats = odmo.init_odmo(jax.random.key(10), TINY)
     first, second = _poses(11), _poses(12)
-    mu_1, _, stats_1 = odmo.encode(params, stats, first, TINY, train=True)
-    mu_2, _, stats_2 = odmo.encode(params, stats_1, second, TINY, train=True)
-    mu, _, together = odmo.encode(params, stats, jnp.concatenate([first, second]), TINY, train=True, groups=2)
+    mu_1, _, stats_1 = odmo.encode(TINY, params, stats, first, train=True)
+    mu_2, _, stats_2 = odmo.encode(TINY, params, stats_1, second, train=True)
+    mu, _, together = odmo.encode(TINY, params, stats, jnp.concatenate([first, second]), train=True, groups=2)
     np.testing.assert_allclose(mu, jnp.concatenate([mu_1, mu_2]), atol=1e-5)
     for a, b in zip(jax.tree.leaves(together), jax.tree.leaves(stats_2), strict=True):
         np.testing.assert_allclose(a, b, atol=1e-6)
     # eval mode: each sequence's code does not depend on the rest of the batch
-    alone = odmo.encode(params, stats_2, first[:1], TINY, train=False)[0]
-    np.testing.assert_allclose(alone, odmo.encode(params, stats_2, first, TINY, train=False)[0][:1], atol=1e-6)
+    alone = odmo.encode(TINY, params, stats_2, first[:1], train=False)[0]
+    np.testing.assert_allclose(alone, odmo.encode(TINY, params, stats_2, first, train=False)[0][:1], atol=1e-6)
 
 
 def test_forward_and_generate_name_the_field_of_bad_input():
     params, stats = odmo.init_odmo(jax.random.key(0), TINY)
     with pytest.raises(ValueError, match=r"poses: expected \[B, 8, 12\]"):
-        odmo.forward(params, stats, jax.random.key(0), jnp.zeros((2, 7, 12)), jnp.zeros(2, jnp.int32), TINY,
+        odmo.forward(TINY, params, stats, jnp.zeros((2, 7, 12)), jnp.zeros(2, jnp.int32), key=jax.random.key(0),
                      train=False)
     with pytest.raises(ValueError, match="actions"):
-        odmo.generate(params, jnp.zeros((2, 5)), jnp.array([0, 3]), jnp.zeros((2, 3)), TINY)
+        odmo.generate(TINY, params, jnp.zeros((2, 5)), jnp.array([0, 3]), jnp.zeros((2, 3)))
     with pytest.raises(ValueError, match=r"end: expected \[2, 3\]"):
-        odmo.generate(params, jnp.zeros((2, 5)), jnp.array([0, 1]), jnp.zeros((2, 2)), TINY)
+        odmo.generate(TINY, params, jnp.zeros((2, 5)), jnp.array([0, 1]), jnp.zeros((2, 2)))
     with pytest.raises(ValueError, match=r"code: expected \[B, 5\]"):
-        odmo.generate(params, jnp.zeros((2, 4)), jnp.array([0, 1]), jnp.zeros((2, 3)), TINY)
+        odmo.generate(TINY, params, jnp.zeros((2, 4)), jnp.array([0, 1]), jnp.zeros((2, 3)))
 
 
 # ----------------------------------------------------------------------------------------------- losses

@@ -325,9 +325,10 @@ def _check_rows(name: str, array: jax.Array, batch: int, width: int) -> jax.Arra
 # ------------------------------------------------------------------------------------------------ encoder
 
 
-def encode(params: ODMOParams, stats: ODMOStats, poses: jax.Array, config: ODMOConfig, *, train: bool,
+def encode(config: ODMOConfig, params: ODMOParams, buffers: ODMOStats, poses: jax.Array, *, train: bool,
            groups: int = 1) -> tuple[jax.Array, jax.Array, ODMOStats]:
-    """``poses [B, T, F]`` -> ``(µ [B, Z], logvar [B, Z], stats)``. ``train``: BatchNorm on the batch's
+    """``poses [B, T, F]`` -> ``(µ [B, Z], logvar [B, Z], buffers)`` (``buffers``: the BatchNorm running
+    statistics). ``train``: BatchNorm on the batch's
     statistics, the running ones updated and returned; otherwise on the running ones (the code's
     ``enable_eval``, used for mode discovery and sampling).
 
@@ -349,8 +350,8 @@ def encode(params: ODMOParams, stats: ODMOStats, poses: jax.Array, config: ODMOC
             parts.append(part)
         return jnp.concatenate(parts), bn_stats
 
-    h, bn1 = norm(p.bn1, stats.bn1, linear(p.fc0, final.h[-1]))
-    h, bn4 = norm(p.bn4, stats.bn4, linear(p.fc3, prelu(p.act2, h)))
+    h, bn1 = norm(p.bn1, buffers.bn1, linear(p.fc0, final.h[-1]))
+    h, bn4 = norm(p.bn4, buffers.bn4, linear(p.fc3, prelu(p.act2, h)))
     mu, logvar = jnp.split(linear(p.fc6, prelu(p.act5, h)), 2, axis=-1)
     return mu, logvar, ODMOStats(bn1, bn4)
 
@@ -433,7 +434,7 @@ def decode_motion(params: ODMOParams, code: jax.Array, actions: jax.Array, traje
     return jnp.swapaxes(poses, 0, 1)
 
 
-def generate(params: ODMOParams, code: jax.Array, actions: jax.Array, end: jax.Array, config: ODMOConfig
+def generate(config: ODMOConfig, params: ODMOParams, code: jax.Array, actions: jax.Array, end: jax.Array
              ) -> dict[str, jax.Array]:
     """Motions from codes: ``code [B, Z]``, ``actions [B]`` (int), ``end [B, 3]`` (requested end root) ->
     ``poses [B, T, F]``, ``trajectory [B, T, 3]`` (the trajectory generator's), no teacher forcing."""
@@ -447,22 +448,22 @@ def generate(params: ODMOParams, code: jax.Array, actions: jax.Array, end: jax.A
     return {"poses": decode_motion(params, code, actions, trajectory, config), "trajectory": trajectory}
 
 
-def forward(params: ODMOParams, stats: ODMOStats, key: jax.Array, poses: jax.Array, actions: jax.Array,
-            config: ODMOConfig, *, train: bool, teacher_mask: jax.Array | None = None, groups: int = 1
+def forward(config: ODMOConfig, params: ODMOParams, buffers: ODMOStats, poses: jax.Array, actions: jax.Array, *,
+            key: jax.Array, train: bool, teacher_mask: jax.Array | None = None, groups: int = 1
             ) -> dict[str, jax.Array]:
     """One pass of the autoencoder as the code's ``Ensemble.forward``: encode, sample ``z`` with ``key``,
     decode the trajectory with the true end root, then the motion on the predicted trajectory.
 
     ``poses [B, T, F]`` (a window, root of frame 0 at the origin), ``actions [B]``, ``teacher_mask [T]`` or
     ``[T, B]`` (see :func:`decode_motion`), ``groups`` (see :func:`encode`). Returns ``mu, logvar, code [B, Z]``, ``velocities [B, T−1, 3]``,
-    ``trajectory [B, T, 3]`` (predicted), ``poses [B, T, F]`` (decoded) and ``stats``.
+    ``trajectory [B, T, 3]`` (predicted), ``poses [B, T, F]`` (decoded) and ``buffers``.
     """
     poses = _check_poses("poses", poses, config, config.num_frames)
     check_actions(actions, config.num_classes, count=poses.shape[0])
-    mu, logvar, stats = encode(params, stats, poses, config, train=train, groups=groups)
+    mu, logvar, buffers = encode(config, params, buffers, poses, train=train, groups=groups)
     code = sample_code(key, mu, logvar)
     velocities = trajectory_velocities(params, code, actions, poses[:, -1, :3], config)
     trajectory = integrate(velocities)
     decoded = decode_motion(params, code, actions, trajectory, config, teacher=poses, teacher_mask=teacher_mask)
     return {"mu": mu, "logvar": logvar, "code": code, "velocities": velocities, "trajectory": trajectory,
-            "poses": decoded, "stats": stats}
+            "poses": decoded, "buffers": buffers}

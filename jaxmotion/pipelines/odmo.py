@@ -125,7 +125,7 @@ class CodeBank(NamedTuple):
 
 @functools.partial(jax.jit, static_argnames=("config",))
 def _encode_rows(params: ODMOParams, stats: ODMOStats, joints: jax.Array, config: ODMOConfig) -> jax.Array:
-    return encode(params, stats, flatten_poses(joints), config, train=False)[0]
+    return encode(config, params, stats, flatten_poses(joints), train=False)[0]
 
 
 def encode_windows(params: ODMOParams, stats: ODMOStats, config: ODMOConfig, joints: np.ndarray,
@@ -300,7 +300,7 @@ def nearest_ends(bank: CodeBank, codes: np.ndarray, actions: np.ndarray) -> np.n
 
 @functools.partial(jax.jit, static_argnames=("config",))
 def _generate_rows(params: ODMOParams, codes: jax.Array, actions: jax.Array, ends: jax.Array, config: ODMOConfig):
-    return generate(params, codes, actions, ends, config)
+    return generate(config, params, codes, actions, ends)
 
 
 def generate_from_codes(params: ODMOParams, config: ODMOConfig, codes, actions, ends, *, chunk: int = 2048

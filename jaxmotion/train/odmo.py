@@ -132,14 +132,14 @@ def odmo_step(training: ODMOTraining):
         teacher_mask = jnp.repeat(draws.T, b, axis=1)  # [T, 2B]
 
         def loss_fn(params):
-            out = forward(params, state.buffers, k_z, poses, actions, model, train=True,
+            out = forward(model, params, state.buffers, poses, actions, key=k_z, train=True,
                           teacher_mask=teacher_mask, groups=2)
-            halves = [{k: v[i * b:(i + 1) * b] for k, v in out.items() if k != "stats"} for i in (0, 1)]
+            halves = [{k: v[i * b:(i + 1) * b] for k, v in out.items() if k != "buffers"} for i in (0, 1)]
             loss, metrics = pair_loss(*halves, poses[:b], poses[b:], batch["same"], losses)
-            return loss, (metrics, out["stats"])
+            return loss, (metrics, out["buffers"])
 
-        (_, (metrics, stats)), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
-        state = state.apply_gradients(grads).replace(buffers=stats)
+        (_, (metrics, buffers)), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
+        state = state.apply_gradients(grads).replace(buffers=buffers)
         return state, {**metrics, "teacher_forcing": rate}
 
     return step_fn
