@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import pytest
-from flax.training.train_state import TrainState
+from jaxmotion.train.state import TrainState
 
 from jaxmotion.models.a2m import (
     A2MOptimizer,
@@ -27,8 +27,8 @@ from jaxmotion.train.a2m import a2m_step
 F, C, B, T = 6, 2, 3, 7
 # One configuration (and one set of parameters) for almost every test: compilation dominates their time.
 CFG = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4)
-LOSS = jax.jit(a2m_vae_loss, static_argnums=4)  # compiled once per input shape, shared by the tests
-FORWARD = jax.jit(a2m_vae_forward, static_argnums=4)
+LOSS = jax.jit(a2m_vae_loss, static_argnums=0)  # compiled once per input shape, shared by the tests
+FORWARD = jax.jit(a2m_vae_forward, static_argnums=0)
 
 
 def _data(seed=0, b=B, t=T):
@@ -43,34 +43,34 @@ def params():
 
 def test_shapes_and_generation_keys(params):
     poses, actions = _data()
-    loss, metrics = LOSS(params, jax.random.key(1), poses, actions, CFG)
+    loss, metrics = LOSS(CFG, params, poses, actions, key=jax.random.key(1))
     assert loss.shape == () and np.isfinite(float(loss))
     assert set(metrics) >= {"loss", "recon", "kl", "loss_per_frame"}
-    out = FORWARD(params, jax.random.key(1), poses, actions, CFG)
+    out = FORWARD(CFG, params, poses, actions, key=jax.random.key(1))
     assert out["recon"].shape == (B, T, F) and out["mu_p"].shape == (B, T, CFG.latent)
 
-    gen = jax.jit(a2m_generate, static_argnums=(3, 4))
-    a = gen(params, jax.random.key(2), actions, 5, CFG)
+    gen = jax.jit(a2m_generate, static_argnums=(0, 3))
+    a = gen(CFG, params, actions, 5, key=jax.random.key(2))
     assert a.shape == (B, 5, F)
-    np.testing.assert_array_equal(a, gen(params, jax.random.key(2), actions, 5, CFG))
-    assert not np.allclose(a, gen(params, jax.random.key(3), actions, 5, CFG))
-    assert a2m_generate(params, jax.random.key(2), actions[:1], 1, CFG).shape == (1, 1, F)
+    np.testing.assert_array_equal(a, gen(CFG, params, actions, 5, key=jax.random.key(2)))
+    assert not np.allclose(a, gen(CFG, params, actions, 5, key=jax.random.key(3)))
+    assert a2m_generate(CFG, params, actions[:1], 1, key=jax.random.key(2)).shape == (1, 1, F)
 
 
 def test_bad_shapes_raise(params):
     poses, actions = _data()
     with pytest.raises(ValueError, match="poses"):
-        a2m_vae_loss(params, jax.random.key(0), poses[..., :4], actions, CFG)
+        a2m_vae_loss(CFG, params, poses[..., :4], actions, key=jax.random.key(0))
     with pytest.raises(ValueError, match="poses"):
-        a2m_vae_loss(params, jax.random.key(0), poses[0], actions, CFG)
+        a2m_vae_loss(CFG, params, poses[0], actions, key=jax.random.key(0))
     with pytest.raises(ValueError, match="actions"):
-        a2m_vae_loss(params, jax.random.key(0), poses, actions[:2], CFG)
+        a2m_vae_loss(CFG, params, poses, actions[:2], key=jax.random.key(0))
     with pytest.raises(ValueError, match="mask"):
-        a2m_vae_loss(params, jax.random.key(0), poses, actions, CFG, jnp.ones((B, T + 1), bool))
+        a2m_vae_loss(CFG, params, poses, actions, key=jax.random.key(0), mask=jnp.ones((B, T + 1), bool))
     with pytest.raises(ValueError, match="actions"):
-        a2m_generate(params, jax.random.key(0), actions[:, None], 4, CFG)
+        a2m_generate(CFG, params, actions[:, None], 4, key=jax.random.key(0))
     with pytest.raises(ValueError, match="num_frames"):
-        a2m_generate(params, jax.random.key(0), actions, 0, CFG)
+        a2m_generate(CFG, params, actions, 0, key=jax.random.key(0))
     with pytest.raises(ValueError, match="own_output_feedback"):
         A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=0.0, own_output_feedback=1.5)
 
@@ -89,7 +89,7 @@ def test_gaussian_kl_hand_values_and_zero_when_posterior_is_prior(params):
     prior = prior._replace(embed=prior.embed._replace(weight=prior.embed.weight.at[:, :F].set(0.0)))
     same = params._replace(prior_net=prior, posterior_net=prior)
     poses, actions = _data()
-    _, metrics = LOSS(same, jax.random.key(4), poses, actions, CFG)
+    _, metrics = LOSS(CFG, same, poses, actions, key=jax.random.key(4))
     assert float(metrics["kl"]) == pytest.approx(0.0, abs=1e-6)
     assert float(metrics["recon"]) > 0
 
@@ -98,8 +98,8 @@ def test_loss_normalisation_matches_the_reference_formula(params):
     """Σ_t [MSE averaged over batch and features] + λ Σ_t [KL summed over batch and latents / B]."""
     poses, actions = _data(5)
     key = jax.random.key(6)
-    loss, metrics = LOSS(params, key, poses, actions, CFG)
-    out = {k: np.asarray(v, np.float64) for k, v in FORWARD(params, key, poses, actions, CFG).items()}
+    loss, metrics = LOSS(CFG, params, poses, actions, key=key)
+    out = {k: np.asarray(v, np.float64) for k, v in FORWARD(CFG, params, poses, actions, key=key).items()}
     x = np.asarray(poses, np.float64)
     mse = sum(np.mean((out["recon"][:, t] - x[:, t]) ** 2) for t in range(T))
     var_q, var_p = np.exp(out["logvar_q"]), np.exp(out["logvar_p"])
@@ -118,7 +118,7 @@ def test_causality_with_ground_truth_feedback(params):
     poses, actions = _data(7, b=1, t=5)
 
     def outputs(p):
-        out = a2m_vae_forward(params, jax.random.key(8), p, actions, cfg)
+        out = a2m_vae_forward(cfg, params, p, actions, key=jax.random.key(8))
         return out["recon"][0], out["mu_p"][0]
 
     d_recon, d_prior = jax.jacobian(outputs)(poses)  # [T, F|Z, 1, T, F]
@@ -155,7 +155,7 @@ def test_feedback_quirk(params):
     poses, actions = _data(10, b=1, t=4)
     for ratio, depends in ((1.0, False), (0.0, True)):
         cfg = A2MVAEConfig(pose_dim=F, num_classes=C, kl_weight=1e-2, hidden=8, latent=4, own_output_feedback=ratio)
-        grad = jax.grad(lambda p: a2m_vae_forward(blind, jax.random.key(11), p, actions, cfg)["recon"].sum())(poses)
+        grad = jax.grad(lambda p: a2m_vae_forward(cfg, blind, p, actions, key=jax.random.key(11))["recon"].sum())(poses)
         assert (np.abs(np.asarray(grad)).max() > 0) == depends, ratio
 
 
@@ -164,16 +164,16 @@ def test_masked_frames_do_not_change_the_loss(params):
     key = jax.random.key(13)
     lengths = np.array([4, T, 2])
     mask = jnp.asarray(np.arange(T)[None] < lengths[:, None])
-    base, _ = LOSS(params, key, poses, actions, CFG, mask)
+    base, _ = LOSS(CFG, params, poses, actions, key=key, mask=mask)
     noisy = jnp.where(mask[..., None], poses, 100.0 * jax.random.normal(jax.random.key(14), poses.shape))
-    np.testing.assert_allclose(LOSS(params, key, noisy, actions, CFG, mask)[0], base, rtol=1e-6)
+    np.testing.assert_allclose(LOSS(CFG, params, noisy, actions, key=key, mask=mask)[0], base, rtol=1e-6)
 
     # Padding every sequence of a batch to T by repeating its last frame gives the loss of the unpadded batch.
     short = poses[:, :4]
     padded = jnp.concatenate([short, jnp.repeat(short[:, -1:], T - 4, axis=1)], axis=1)
     mask4 = jnp.asarray(np.arange(T)[None] < np.full((B, 1), 4))
-    np.testing.assert_allclose(LOSS(params, key, padded, actions, CFG, mask4)[0],
-                               LOSS(params, key, short, actions, CFG)[0], rtol=1e-5)
+    np.testing.assert_allclose(LOSS(CFG, params, padded, actions, key=key, mask=mask4)[0],
+                               LOSS(CFG, params, short, actions, key=key)[0], rtol=1e-5)
 
 
 def test_short_training_reduces_the_loss(params):
@@ -183,7 +183,7 @@ def test_short_training_reduces_the_loss(params):
     phase = np.arange(F)[None, None, :] / F
     motions = np.concatenate([np.sin(2 * np.pi * (t + phase)), 0.5 * np.cos(4 * np.pi * (t - phase))])
     poses, actions = jnp.asarray(np.concatenate([motions, motions]), jnp.float32), jnp.asarray([0, 1, 0, 1])
-    state = TrainState.create(apply_fn=None, params=params, tx=optax.adam(1e-2))
+    state = TrainState.create(params, optax.adam(1e-2))
     step = jax.jit(a2m_step(CFG))  # the library's step, on a batch of poses laid out as joints [B, T, J, 3]
     batch = {"joints": poses.reshape(*poses.shape[:2], -1, 3), "actions": actions}
     losses = []

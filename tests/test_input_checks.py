@@ -73,7 +73,7 @@ def test_actor_generate_rejects_durations_beyond_its_frames(actor_params):
 
 def test_a2m_generators_reject_actions_and_durations_outside_their_range(a2m_params):
     with pytest.raises(ValueError, match=r"actions: expected class ids in \[0, 12\)"):
-        a2m_generate(a2m_params, jax.random.key(1), jnp.array([0, 12]), 10, A2M)
+        a2m_generate(A2M, a2m_params, jnp.array([0, 12]), 10, key=jax.random.key(1))
     sampler = a2m_sampler(a2m_params, A2M, SMPL24)
     with pytest.raises(ValueError, match=r"actions: expected class ids in \[0, 12\)"):
         sampler(jax.random.key(1), np.array([-1, 0]), np.array([10, 10]))

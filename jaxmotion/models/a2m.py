@@ -237,8 +237,8 @@ def _feedback_draws(key: jax.Array, config: A2MVAEConfig, num_frames: int) -> ja
     return jax.random.bernoulli(key, config.own_output_feedback, (num_frames,))
 
 
-def a2m_vae_forward(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions: jax.Array,
-                    config: A2MVAEConfig, mask: jax.Array | None = None) -> dict[str, jax.Array]:
+def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array, actions: jax.Array, *,
+                    key: jax.Array, mask: jax.Array | None = None) -> dict[str, jax.Array]:
     """Training-mode pass: posterior samples, decoding with the feedback quirk, prior alongside.
 
     ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
@@ -297,8 +297,8 @@ def a2m_vae_forward(params: A2MVAEParams, key: jax.Array, poses: jax.Array, acti
                 mask=mask)
 
 
-def a2m_vae_loss(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions: jax.Array,
-                 config: A2MVAEConfig, mask: jax.Array | None = None) -> tuple[jax.Array, dict[str, jax.Array]]:
+def a2m_vae_loss(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array, actions: jax.Array, *,
+                 key: jax.Array, mask: jax.Array | None = None) -> tuple[jax.Array, dict[str, jax.Array]]:
     """``(loss, metrics)`` of a batch; see the module docstring for the exact normalisation.
 
     ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
@@ -306,7 +306,7 @@ def a2m_vae_loss(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions
     authors log, ``loss_per_frame``, ``recon_per_frame``, ``kl_per_frame`` (divided by the mean number of
     real frames per sequence, which is ``T`` without a mask).
     """
-    out = a2m_vae_forward(params, key, poses, actions, config, mask)
+    out = a2m_vae_forward(config, params, poses, actions, key=key, mask=mask)
     b = out["recon"].shape[0]
     m = out["mask"].astype(jnp.float32)  # [B, T]
     se = jnp.square(out["recon"] - jnp.asarray(poses, jnp.float32)).mean(-1)  # [B, T]
@@ -320,8 +320,8 @@ def a2m_vae_loss(params: A2MVAEParams, key: jax.Array, poses: jax.Array, actions
     return loss, metrics
 
 
-def a2m_generate(params: A2MVAEParams, key: jax.Array, actions: jax.Array, num_frames: int,
-                 config: A2MVAEConfig) -> jax.Array:
+def a2m_generate(config: A2MVAEConfig, params: A2MVAEParams, actions: jax.Array, num_frames: int, *,
+                 key: jax.Array) -> jax.Array:
     """Sample motions: ``actions [B]`` (int) -> ``poses [B, num_frames, F]``.
 
     ``z_t`` from the learned prior, each output fed back as the next ``x_prev`` (zeros at frame 0), time

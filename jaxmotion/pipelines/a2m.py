@@ -26,7 +26,7 @@ def _generate_rows(params: A2MVAEParams, key_data: jax.Array, actions: jax.Array
                    config: A2MVAEConfig) -> jax.Array:
     """One motion per row, row n drawn from its own key: ``[N]`` keys and actions -> ``poses [N, frames, F]``."""
     def one(k, action):
-        return a2m_generate(params, jax.random.wrap_key_data(k), action[None], frames, config)[0]
+        return a2m_generate(config, params, action[None], frames, key=jax.random.wrap_key_data(k))[0]
 
     return jax.vmap(one)(key_data, actions)
 

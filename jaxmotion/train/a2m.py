@@ -98,7 +98,8 @@ def a2m_step(config: A2MVAEConfig):
         if joints.ndim == 5:  # [B, P, T, J, 3] -> [B, T, P, J, 3]: every person's joints in each frame
             joints = jnp.moveaxis(joints, 1, 2)
         poses = joints.reshape(*joints.shape[:2], -1)
-        grads, metrics = jax.grad(a2m_vae_loss, has_aux=True)(state.params, key, poses, batch["actions"], config)
+        grads, metrics = jax.grad(a2m_vae_loss, argnums=1, has_aux=True)(config, state.params, poses, batch["actions"],
+                                                                        key=key)
         return state.apply_gradients(grads), metrics
 
     return step_fn
