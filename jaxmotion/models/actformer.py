@@ -266,9 +266,10 @@ def normalize_output(x: jax.Array, output: str) -> jax.Array:
     return x
 
 
-def generate(config: GeneratorConfig, params: GeneratorParams, spectral: GeneratorSpectral | None, z: jax.Array,
+def generate(config: GeneratorConfig, params: GeneratorParams, buffers: GeneratorSpectral | None, z: jax.Array,
              labels: jax.Array, *, train: bool = False) -> tuple[jax.Array, GeneratorSpectral | None]:
-    """``(motion, spectral)`` from latent sequences and action labels.
+    """``(motion, buffers)`` from latent sequences and action labels; ``buffers``: the spectral-norm vectors
+    (None: no spectral normalisation).
 
     ``z``: ``[B, T, Z]`` (shared by all persons) or ``[B, P, T, Z]`` (one sequence per person, the "w/o
     shared z" ablation); ``labels [B]`` int. ``motion``: ``[B, T, V, C]`` for one person, ``[B, P, T, V, C]``
@@ -281,7 +282,7 @@ def generate(config: GeneratorConfig, params: GeneratorParams, spectral: Generat
                          f"got {tuple(z.shape)}")
     if labels.shape != z.shape[:1]:
         raise ValueError(f"labels: expected [B] = [{z.shape[0]}] class indices, got {tuple(labels.shape)}")
-    p, spectral = _normalized(params, spectral, train)
+    p, buffers = _normalized(params, buffers, train)
     batch, d = z.shape[0], c.width
     x = linear(p.input_embedding, z)  # [B, T, D] or [B, P, T, D]
     token = p.class_embedding[labels]  # [B, D]
@@ -309,4 +310,4 @@ def generate(config: GeneratorConfig, params: GeneratorParams, spectral: Generat
         x = jnp.moveaxis(x.reshape(batch, c.frames, c.joints, c.persons, c.channels), 3, 1)
     else:
         x = x.reshape(*x.shape[:-1], c.joints, c.channels)
-    return normalize_output(x, c.output), spectral
+    return normalize_output(x, c.output), buffers

@@ -213,9 +213,9 @@ def graph_conv(p: GraphConvParams, adjacency: np.ndarray, x: jax.Array, *, strid
     return jnp.einsum("kwv,btvck->btwc", jnp.asarray(adjacency, jnp.float32), y, precision=_HIGHEST)
 
 
-def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spectral: CriticSpectral | None,
+def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, buffers: CriticSpectral | None,
            motion: jax.Array, labels: jax.Array, *, train: bool = False) -> tuple[jax.Array, CriticSpectral | None]:
-    """``(scores [B], spectral)`` for ``motion`` ``[B, T, V, C]`` or ``[B, P, T, V, C]`` (``pooling="concat"``:
+    """``(scores [B], buffers)`` (``buffers``: the spectral-norm vectors) for ``motion`` ``[B, T, V, C]`` or ``[B, P, T, V, C]`` (``pooling="concat"``:
     persons stacked on the channels, person-major; otherwise each person alone, then pooled) and ``labels [B]``;
     ``train`` moves the power iterations."""
     pooled = config.pooling != "concat"
@@ -233,7 +233,7 @@ def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spe
     if labels.shape != (motion.shape[0] // persons,):
         raise ValueError(f"labels: expected [B] = [{motion.shape[0] // persons}] class indices, got "
                          f"{tuple(labels.shape)}")
-    p, spectral = _normalized(params, spectral, train)
+    p, buffers = _normalized(params, buffers, train)
     x = motion
     if config.motion_flow:
         flow = jnp.concatenate([jnp.zeros_like(x[:, :1]), x[:, 1:] - x[:, :-1]], 1)
@@ -250,7 +250,7 @@ def critic(config: CriticConfig, graphs: CriticGraphs, params: CriticParams, spe
     if pooled:
         h = pool_persons(config.pooling, h.reshape(-1, persons, h.shape[-1]), p.attention)
     score = linear(p.conv5, h)[:, 0] + jnp.sum(p.embedding[labels] * h, -1)
-    return score, spectral
+    return score, buffers
 
 
 def pool_persons(pooling: str, h: jax.Array, attention: tuple[LinearParams, ...] | None = None) -> jax.Array:
