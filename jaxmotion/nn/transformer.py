@@ -325,10 +325,11 @@ def _check_mask(name: str, mask: jax.Array | None, batch: int, length: int) -> N
 
 def _project(p: AttentionParams, x: jax.Array, part: int, num_heads: int) -> jax.Array:
     """``x [B, T, D]`` through the query (``part`` 0), key (1) or value (2) rows of ``in_proj``, split into
-    heads: ``[B, T, H, D/H]``."""
-    dim = x.shape[-1]
+    heads, heads first: ``[B, H, T, D/H]`` (the layout of the attention products, and of the cache)."""
+    batch, length, dim = x.shape
     rows = slice(part * dim, (part + 1) * dim)
-    return (x @ p.in_proj_weight[rows].T + p.in_proj_bias[rows]).reshape(*x.shape[:2], num_heads, dim // num_heads)
+    heads = (x @ p.in_proj_weight[rows].T + p.in_proj_bias[rows]).reshape(batch, length, num_heads, dim // num_heads)
+    return heads.transpose(0, 2, 1, 3)
 
 
 def _attend(
@@ -340,16 +341,16 @@ def _attend(
     dropout_rate: float,
     dropout_key: jax.Array | None,
 ) -> jax.Array:
-    """Heads ``q [B, Tq, H, e]`` over ``k, v [B, Tk, H, e]`` where ``allowed`` (broadcasting to
+    """Heads ``q [B, H, Tq, e]`` over ``k, v [B, H, Tk, e]`` where ``allowed`` (broadcasting to
     ``[B, H, Tq, Tk]``) -> ``out_proj(context) [B, Tq, H·e]``: softmax of scaled scores over the allowed
     keys, zero weights for a query that sees none, dropout on the weights."""
-    batch, len_q, num_heads, head_dim = q.shape
-    scores = jnp.einsum("bqhd,bkhd->bhqk", q * (1.0 / math.sqrt(head_dim)), k)
+    batch, num_heads, len_q, head_dim = q.shape
+    scores = jnp.einsum("bhqd,bhkd->bhqk", q * (1.0 / math.sqrt(head_dim)), k)
     # A finite fill (not −inf) keeps fully masked rows NaN-free; their weights are then zeroed.
     scores = jnp.where(allowed, scores, jnp.finfo(scores.dtype).min)
     weights = jax.nn.softmax(scores, axis=-1) * allowed.any(-1, keepdims=True)
     weights = dropout(weights, dropout_rate, dropout_key)
-    context = jnp.einsum("bhqk,bkhd->bqhd", weights, v).reshape(batch, len_q, num_heads * head_dim)
+    context = jnp.einsum("bhqk,bhkd->bqhd", weights, v).reshape(batch, len_q, num_heads * head_dim)
     return linear(out_proj, context)
 
 
@@ -393,7 +394,7 @@ def multi_head_attention(
         allowed = jnp.ones((batch, 1), bool) if key_padding_mask is None else key_padding_mask.astype(bool)
         weights = jnp.broadcast_to(allowed[:, None, :], (batch, num_heads, len_q)).astype(query.dtype)
         weights = dropout(weights[..., None], dropout_rate, dropout_key)[..., 0]  # [B, H, Tq]
-        v = _project(p, key_value, 2, num_heads)[:, 0]  # [B, H, D/H]
+        v = _project(p, key_value, 2, num_heads)[:, :, 0]  # [B, H, D/H]
         per_head = jnp.einsum("bhe,dhe->bhd", v, p.out_proj.weight.reshape(dim, num_heads, dim // num_heads))
         return jnp.einsum("bhq,bhd->bqd", weights, per_head) + p.out_proj.bias
 
@@ -608,12 +609,15 @@ def decoder_stack(
 
 
 class DecoderCache(NamedTuple):
-    """What :func:`decoder_stack_step` needs besides the parameters, preallocated for ``T`` positions."""
+    """What :func:`decoder_stack_step` needs besides the parameters, preallocated for ``T`` positions. One
+    array per layer (tuples of ``L``), not one stacked on ``L``: the step's layer loop is unrolled and reads
+    each layer's keys and values in place, where slicing a stacked buffer at a traced layer index copies them
+    at every step (that doubled the memory traffic of 240-frame decoding on CPU)."""
 
-    keys: jax.Array  # [L, B, T, H, D/H] self-attention keys; positions not decoded yet hold zeros
-    values: jax.Array  # [L, B, T, H, D/H]
-    memory_keys: jax.Array  # [L, B, S, H, D/H] cross-attention keys of the memory, computed once
-    memory_values: jax.Array  # [L, B, S, H, D/H]
+    keys: tuple[jax.Array, ...]  # L x [B, H, T, D/H] self-attention keys; positions not decoded yet hold zeros
+    values: tuple[jax.Array, ...]  # L x [B, H, T, D/H]
+    memory_keys: tuple[jax.Array, ...]  # L x [B, H, S, D/H] cross-attention keys of the memory, computed once
+    memory_values: tuple[jax.Array, ...]  # L x [B, H, S, D/H]
     target_mask: jax.Array  # [B, T] bool, True = real position (the full pass's tgt_key_padding_mask)
     memory_mask: jax.Array  # [B, S] bool, True = real memory token
 
@@ -645,15 +649,35 @@ def init_decoder_cache(
         raise ValueError(f"length: expected a Python int >= 1 (the positions to decode), got {length!r}")
     _check_mask("tgt_key_padding_mask", tgt_key_padding_mask, batch, length)
     _check_mask("memory_key_padding_mask", memory_key_padding_mask, batch, len_s)
-
-    def memory_keys_values(attn):
-        return _project(attn, memory, 1, options.num_heads), _project(attn, memory, 2, options.num_heads)
-
-    memory_keys, memory_values = jax.vmap(memory_keys_values)(p.multihead_attn)  # [L, B, S, H, D/H] each
-    empty = jnp.zeros((_num_layers(p), batch, length, options.num_heads, dim // options.num_heads), memory.dtype)
+    layers = unstack_layers(p)
+    memory_keys = tuple(_project(lp.multihead_attn, memory, 1, options.num_heads) for lp in layers)
+    memory_values = tuple(_project(lp.multihead_attn, memory, 2, options.num_heads) for lp in layers)
+    empty = (jnp.zeros((batch, options.num_heads, length, dim // options.num_heads), memory.dtype),) * len(layers)
     target_mask = jnp.ones((batch, length), bool) if tgt_key_padding_mask is None else tgt_key_padding_mask
     memory_mask = jnp.ones((batch, len_s), bool) if memory_key_padding_mask is None else memory_key_padding_mask
     return DecoderCache(empty, empty, memory_keys, memory_values, target_mask.astype(bool), memory_mask.astype(bool))
+
+
+def _cached_decoder_layer(lp: DecoderLayerParams, h: jax.Array, keys: jax.Array, values: jax.Array,
+                          memory_keys: jax.Array, memory_values: jax.Array, position: jax.Array | int,
+                          seen: jax.Array, memory_allowed: jax.Array, options: TransformerOptions):
+    """One decoder layer at one position, ``h [B, 1, D]`` -> ``(h, keys, values)``, the layer's self-attention
+    ``keys, values [B, H, T, D/H]`` with this position's written; ``seen`` and ``memory_allowed`` are the
+    self- and cross-attention masks, broadcasting to ``[B, H, 1, T]`` and ``[B, H, 1, S]``."""
+    num_heads = options.num_heads
+
+    def self_attention(x, _):
+        k, v = (jax.lax.dynamic_update_slice_in_dim(buffer, _project(lp.self_attn, x, part, num_heads), position, 2)
+                for part, buffer in ((1, keys), (2, values)))
+        q = _project(lp.self_attn, x, 0, num_heads)
+        return _attend(lp.self_attn.out_proj, q, k, v, seen, 0.0, None), (k, v)
+
+    def cross_attention(x, _):
+        q = _project(lp.multihead_attn, x, 0, num_heads)
+        return _attend(lp.multihead_attn.out_proj, q, memory_keys, memory_values, memory_allowed, 0.0, None)
+
+    h, (keys, values) = _decoder_blocks(lp, h, options, self_attention, cross_attention, None)
+    return h, keys, values
 
 
 def decoder_stack_step(
@@ -666,48 +690,30 @@ def decoder_stack_step(
     """Decode one position: ``token [B, D]``, the stack's input at ``position`` (a scalar int, may be traced),
     -> ``(out [B, D], cache)``: the output :func:`decoder_stack` gives at ``position`` when positions
     ``0 .. position − 1`` were decoded before with the same cache, and the cache with this position's keys
-    and values written. Eval mode (no dropout); ``options`` as for :func:`init_decoder_cache`.
+    and values written. Eval mode (no dropout); ``options`` as for :func:`init_decoder_cache` (the layer loop
+    is unrolled whatever ``options.unroll`` says; see :class:`DecoderCache`).
 
     A concrete ``position`` past the cache is an error; a traced one is not checked (XLA clamps the write),
     so loop over ``jnp.arange(T)`` with ``T`` the cache's length.
     """
-    num_layers, batch, length, num_heads, head_dim = cache.keys.shape
-    dim = num_heads * head_dim
-    if token.shape != (batch, dim):
-        raise ValueError(f"token: expected [B, D] = {(batch, dim)} (the cache's batch and width), got {token.shape}")
-    if num_heads != options.num_heads or _num_layers(p) != num_layers:
-        raise ValueError(f"cache: built for {num_layers} layers of {num_heads} heads, but p has {_num_layers(p)} "
-                         f"layers and options.num_heads = {options.num_heads}")
+    batch, num_heads, length, head_dim = cache.keys[0].shape
+    if token.shape != (batch, num_heads * head_dim):
+        raise ValueError(f"token: expected [B, D] = {(batch, num_heads * head_dim)} (the cache's batch and width), "
+                         f"got {token.shape}")
+    if num_heads != options.num_heads or _num_layers(p) != len(cache.keys):
+        raise ValueError(f"cache: built for {len(cache.keys)} layers of {num_heads} heads, but p has "
+                         f"{_num_layers(p)} layers and options.num_heads = {options.num_heads}")
     if jnp.ndim(position) != 0:
         raise ValueError(f"position: expected a scalar int, got shape {jnp.shape(position)}")
     if not isinstance(position, jax.core.Tracer) and not 0 <= int(position) < length:
         raise ValueError(f"position: expected 0 <= position < {length} (the cache's length), got {int(position)}")
-    seen = (jnp.arange(length) <= position) & cache.target_mask  # [B, T]: causal and not padded
+    seen = ((jnp.arange(length) <= position) & cache.target_mask)[:, None, None, :]  # causal and not padded
     memory_allowed = cache.memory_mask[:, None, None, :]
 
-    def layer(carry, layer_and_index):
-        h, keys, values = carry
-        lp, index = layer_and_index
-
-        def self_attention(x, _):  # x [B, 1, D]
-            def write(buffer, part):
-                row = _project(lp.self_attn, x, part, num_heads)[None]  # [1, B, 1, H, D/H]
-                return jax.lax.dynamic_update_slice(buffer, row, (index, 0, position, 0, 0))
-
-            new_keys, new_values = write(keys, 1), write(values, 2)
-            q = _project(lp.self_attn, x, 0, num_heads)
-            out = _attend(lp.self_attn.out_proj, q, new_keys[index], new_values[index], seen[:, None, None, :],
-                          0.0, None)
-            return out, (new_keys, new_values)
-
-        def cross_attention(x, _):
-            q = _project(lp.multihead_attn, x, 0, num_heads)
-            return _attend(lp.multihead_attn.out_proj, q, cache.memory_keys[index], cache.memory_values[index],
-                           memory_allowed, 0.0, None)
-
-        h, (keys, values) = _decoder_blocks(lp, h, options, self_attention, cross_attention, None)
-        return h, keys, values
-
-    out, keys, values = _scan_layers(layer, (token[:, None], cache.keys, cache.values),
-                                     (p, jnp.arange(num_layers)), options.unroll)
-    return out[:, 0], cache._replace(keys=keys, values=values)
+    h, keys, values = token[:, None], [], []  # h [B, 1, D]
+    for lp, *layer_cache in zip(unstack_layers(p), cache.keys, cache.values, cache.memory_keys, cache.memory_values):
+        h, layer_keys, layer_values = _cached_decoder_layer(lp, h, *layer_cache, position, seen, memory_allowed,
+                                                            options)
+        keys.append(layer_keys)
+        values.append(layer_values)
+    return h[:, 0], cache._replace(keys=tuple(keys), values=tuple(values))
