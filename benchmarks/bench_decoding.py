@@ -3,6 +3,7 @@
 and against a PyTorch peer that decodes frame by frame, all timed in the same run.
 
     python benchmarks/bench_decoding.py [--frames 60,120,240] [--size cpu|paper] [--batch 20] [--repeats 3]
+                                        [--torch-threads N]
 
 What is timed (``float32``, CPU, eval mode, the decoder only: z given, ``batch`` sequences of full length):
 
@@ -27,7 +28,10 @@ Timing (STYLE §3.12): the jitted functions are compiled ahead of time (``jit(..
 reported as "compile s"; PyTorch is eager and has none); each is called once to warm up, then the three are
 called in turn ``--repeats`` times (so background load hits them alike), jaxmotion with
 ``block_until_ready``; medians and min-max ranges in ms. The issue's target: cached >= 3x the peer at 120
-frames. Run it on a quiet machine; the load average is printed before and after.
+frames. Threads: XLA's defaults (every core); the peer gets ``--torch-threads`` (default: as many as the
+cores, as ``bench_actor.py``). On a machine other jobs load, PyTorch's OpenMP threads wait for each other:
+there one thread ran the peer 4x faster than two, so pass the faster setting. Run it on a quiet machine; the
+load average is printed before and after.
 """
 
 from __future__ import annotations
@@ -156,10 +160,11 @@ def main() -> None:
     parser.add_argument("--size", choices=tuple(SIZES), default="cpu")
     parser.add_argument("--batch", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--torch-threads", type=int, default=THREADS, help="torch.set_num_threads for the peer")
     args = parser.parse_args()
     frames_list = [int(f) for f in args.frames.split(",")]
-    if args.repeats < 1 or args.batch < 1 or min(frames_list) < 1:
-        parser.error("--repeats, --batch and every --frames value must be >= 1")
+    if args.repeats < 1 or args.batch < 1 or args.torch_threads < 1 or min(frames_list) < 1:
+        parser.error("--repeats, --batch, --torch-threads and every --frames value must be >= 1")
 
     config = ActorConfig(num_classes=CLASSES, architecture="autoregressive", **SIZES[args.size])
     params = init_actor(jax.random.key(0), config)
@@ -169,24 +174,27 @@ def main() -> None:
     if peer is None:
         print('PyTorch peer: torch is not installed (`pip install -e ".[bench]"`); its columns are left empty.')
     else:
-        torch.set_num_threads(THREADS)
-        print(f"PyTorch peer: torch {torch.__version__}, {torch.get_num_threads()} threads, eager, float32")
+        torch.set_num_threads(args.torch_threads)
+        print(f"PyTorch peer: torch {torch.__version__}, {torch.get_num_threads()} threads (XLA: its default, "
+              f"{THREADS} cores), eager, float32")
     size = SIZES[args.size]
     print(f"ACTOR autoregressive decoder, {args.size} size (d {size['width']}, {size['layers']} layers, "
           f"{size['heads']} heads, FF {size['ff']}), batch {args.batch}, z given, eval mode\n")
 
-    rows = [(frames, bench(config, params, frames, args.batch, args.repeats)) for frames in frames_list]
     print("| frames | cached median ms | min-max | compile s | recomputed median ms | min-max | compile s "
           "| cached vs recomputed | PyTorch peer median ms | min-max | cached vs peer | parity vs recomputed "
           "| parity vs peer |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for frames, r in rows:
+    rows = []
+    for frames in frames_list:  # each row printed as soon as it is measured
+        r = bench(config, params, frames, args.batch, args.repeats)
+        rows.append((frames, r))
         cached, recomputed, theirs = r["cached"], r["recomputed"], r["peer"]
         cells = [str(frames), *_ms(cached), f"{r['compile_cached']:.1f}", *_ms(recomputed),
                  f"{r['compile_recomputed']:.1f}", f"{recomputed['median'] / cached['median']:.1f}x", *_ms(theirs),
                  "-" if theirs is None else f"{theirs['median'] / cached['median']:.1f}x",
                  f"{r['parity']['recomputed']:.1e}", f"{r['parity'].get('peer', float('nan')):.1e}"]
-        print("| " + " | ".join(cells) + " |")
+        print("| " + " | ".join(cells) + " |", flush=True)
     target_rows = [r for frames, r in rows if frames == TARGET_FRAMES and r["peer"] is not None]
     if target_rows:
         ratio = target_rows[0]["peer"]["median"] / target_rows[0]["cached"]["median"]
