@@ -61,8 +61,7 @@ def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
     """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
     if theirs is None:
         return time_alternately([ours], repeats)[0], None
-    result, peer = time_alternately([ours, theirs], repeats)
-    return result, peer
+    return tuple(time_alternately([ours, theirs], repeats))
 
 
 def as_loop_runs(step_fn):
