@@ -43,21 +43,25 @@ def _stats(times: list[float]) -> dict:
     return {"median": statistics.median(times), "min": min(times), "max": max(times)}
 
 
+def time_alternately(calls, repeats: int) -> list[dict]:
+    """Each of ``calls`` (blocking) once to warm up, then all in turn ``repeats`` times, so background load
+    hits them alike: ms stats per call, in order."""
+    for call in calls:
+        call()
+    times = [[] for _ in calls]
+    for _ in range(repeats):
+        for call, record in zip(calls, times):
+            tick = time.perf_counter()
+            call()
+            record.append(1e3 * (time.perf_counter() - tick))
+    return [_stats(record) for record in times]
+
+
 def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
     """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
-    ours()
-    if theirs is not None:
-        theirs()
-    times_ours, times_theirs = [], []
-    for _ in range(repeats):
-        tick = time.perf_counter()
-        ours()
-        times_ours.append(1e3 * (time.perf_counter() - tick))
-        if theirs is not None:
-            tick = time.perf_counter()
-            theirs()
-            times_theirs.append(1e3 * (time.perf_counter() - tick))
-    return _stats(times_ours), (_stats(times_theirs) if theirs is not None else None)
+    if theirs is None:
+        return time_alternately([ours], repeats)[0], None
+    return tuple(time_alternately([ours, theirs], repeats))
 
 
 def as_loop_runs(step_fn):

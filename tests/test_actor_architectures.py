@@ -130,6 +130,28 @@ def test_autoregressive_frame_by_frame_decoding_equals_teacher_forcing_on_its_ow
     np.testing.assert_allclose(np.asarray(forced), np.asarray(free), atol=1e-5)
 
 
+@pytest.mark.parametrize("batch", [2, 32])
+def test_autoregressive_cached_generation_equals_recomputing_the_causal_pass_for_every_frame(batch):
+    # The decoding before the key/value cache: for every frame t, one full causal pass (teacher forcing on the
+    # frames decoded so far, zeros after) whose frame t is kept. Row 1 has padded frames.
+    z = jax.random.normal(jax.random.key(12), (batch, 16))
+    actions = jnp.arange(batch) % 3
+    mask = length_mask(jnp.array([FRAMES, 5] * (batch // 2)), FRAMES)
+    p = params("autoregressive")
+    recomputed = jnp.zeros((batch, FRAMES, 25, 6))
+    for t in range(FRAMES):
+        recomputed = recomputed.at[:, t].set(jitted_decode("autoregressive")(p, z, actions, mask, recomputed)[:, t])
+    cached = jitted_decode("autoregressive")(p, z, actions, mask, None)
+    assert float(jnp.abs(cached[1, :5]).min()) > 0.0 and float(jnp.abs(cached[1, 5:]).max()) == 0.0
+    np.testing.assert_allclose(np.asarray(cached), np.asarray(recomputed), atol=1e-5, rtol=0)
+
+
+def test_autoregressive_frame_by_frame_decoding_takes_no_dropout_key():
+    z = jnp.zeros((2, 16))
+    with pytest.raises(ValueError, match=r"key: frame-by-frame autoregressive decoding \(no target\) runs in eval"):
+        decode(params("autoregressive"), config("autoregressive"), z, ACTIONS, MASK, jax.random.key(0))
+
+
 def test_autoregressive_dropout_runs_only_with_a_key():
     cfg = config("autoregressive", dropout=0.1)
     p, z = init_actor(jax.random.key(0), cfg), jax.random.normal(jax.random.key(10), (2, 16))

@@ -1,5 +1,6 @@
 """Transformer layers: sinusoidal codes, attention and post-/pre-norm layers against float64 numpy references,
-masking and causality properties, dropout modes, scanned stacks, PyTorch initialisation, sizes and names."""
+masking and causality properties, dropout modes, scanned stacks, cached decoding against the full causal pass,
+options, PyTorch initialisation, sizes and names."""
 
 import math
 
@@ -10,10 +11,13 @@ import pytest
 
 from jaxmotion.nn.transformer import (
     AttentionParams,
+    TransformerOptions,
     decoder_layer,
     decoder_stack,
+    decoder_stack_step,
     encoder_layer,
     encoder_stack,
+    init_decoder_cache,
     init_decoder_layer,
     init_decoder_stack,
     init_encoder_layer,
@@ -28,6 +32,8 @@ from jaxmotion.nn.transformer import (
 )
 
 D, H, F = 16, 4, 32
+OPTIONS = TransformerOptions(num_heads=H)  # torch 1.7's layers
+JOEYNMT = TransformerOptions(num_heads=H, activation="relu", norm_first=True, layer_norm_eps=1e-6, causal=True)
 
 
 def _random_params(init, seed, *args):
@@ -231,7 +237,7 @@ def test_attention_validates_shapes(attn):
 def test_post_norm_encoder_layer_matches_numpy_reference(enc, masked):
     x = _inputs(10, 3, 6, D)
     mask = MASK_3x6 if masked else None
-    out = encoder_layer(enc, x, num_heads=H, key_padding_mask=mask)
+    out = encoder_layer(enc, x, OPTIONS, key_padding_mask=mask)
     np.testing.assert_allclose(out, ref_encoder(enc, x, mask), atol=1e-4)
 
 
@@ -239,19 +245,15 @@ def test_post_norm_encoder_layer_matches_numpy_reference(enc, masked):
 def test_post_norm_decoder_layer_matches_numpy_reference(dec, causal):
     tgt, memory = _inputs(11, 3, 6, D), _inputs(12, 3, 2, D)
     mem_mask = np.array([[1, 1], [1, 0], [1, 1]], bool)
-    out = decoder_layer(
-        dec, tgt, memory, num_heads=H, tgt_key_padding_mask=MASK_3x6, memory_key_padding_mask=mem_mask, causal=causal
-    )
+    out = decoder_layer(dec, tgt, memory, TransformerOptions(num_heads=H, causal=causal),
+                        tgt_key_padding_mask=MASK_3x6, memory_key_padding_mask=mem_mask)
     np.testing.assert_allclose(out, ref_decoder(dec, tgt, memory, MASK_3x6, mem_mask, causal), atol=1e-4)
 
 
 def test_pre_norm_relu_decoder_layer_matches_numpy_reference(dec):
     """joeynmt's layer as ACTOR's autoregressive baseline uses it: pre-norm, ReLU, eps 1e-6, causal."""
     tgt, memory = _inputs(13, 3, 6, D), _inputs(14, 3, 6, D)
-    out = decoder_layer(
-        dec, tgt, memory, num_heads=H, tgt_key_padding_mask=MASK_3x6, memory_key_padding_mask=MASK_3x6,
-        causal=True, activation="relu", norm_first=True, layer_norm_eps=1e-6,
-    )
+    out = decoder_layer(dec, tgt, memory, JOEYNMT, tgt_key_padding_mask=MASK_3x6, memory_key_padding_mask=MASK_3x6)
     expected = ref_decoder(dec, tgt, memory, MASK_3x6, MASK_3x6, True, "relu", norm_first=True, eps=1e-6)
     np.testing.assert_allclose(out, expected, atol=1e-4)
 
@@ -259,27 +261,28 @@ def test_pre_norm_relu_decoder_layer_matches_numpy_reference(dec):
 def test_encoder_layer_is_permutation_equivariant(enc):
     x = _inputs(15, 2, 7, D)
     perm = np.array([3, 0, 6, 1, 5, 2, 4])
-    permuted_in = encoder_layer(enc, x[:, perm], num_heads=H)
-    np.testing.assert_allclose(permuted_in, encoder_layer(enc, x, num_heads=H)[:, perm], atol=1e-5)
+    permuted_in = encoder_layer(enc, x[:, perm], OPTIONS)
+    np.testing.assert_allclose(permuted_in, encoder_layer(enc, x, OPTIONS)[:, perm], atol=1e-5)
 
 
 @pytest.mark.parametrize("norm_first", [False, True])
 def test_causal_decoder_output_does_not_depend_on_later_targets(dec, norm_first):
     tgt, memory = _inputs(16, 2, 6, D), _inputs(17, 2, 3, D)
     later_changed = tgt.at[:, 3:].set(_inputs(18, 2, 3, D))
-    run = lambda t: decoder_layer(dec, t, memory, num_heads=H, causal=True, norm_first=norm_first)
+    options = TransformerOptions(num_heads=H, causal=True, norm_first=norm_first)
+    run = lambda t: decoder_layer(dec, t, memory, options)
     np.testing.assert_allclose(run(tgt)[:, :3], run(later_changed)[:, :3], atol=1e-5)
 
 
 def test_dropout_only_with_a_key_and_reproducible(enc):
     x = _inputs(19, 2, 5, D)
-    run = lambda key: encoder_layer(enc, x, num_heads=H, dropout_rate=0.3, dropout_key=key)
-    eval_out = encoder_layer(enc, x, num_heads=H)
+    run = lambda key: encoder_layer(enc, x, TransformerOptions(num_heads=H, dropout_rate=0.3), dropout_key=key)
+    eval_out = encoder_layer(enc, x, OPTIONS)
     np.testing.assert_array_equal(run(None), eval_out)
     a, b = run(jax.random.key(0)), run(jax.random.key(1))
     assert not np.allclose(a, b) and not np.allclose(a, eval_out)
     np.testing.assert_array_equal(a, run(jax.random.key(0)))
-    zero_rate = encoder_layer(enc, x, num_heads=H, dropout_rate=0.0, dropout_key=jax.random.key(0))
+    zero_rate = encoder_layer(enc, x, OPTIONS, dropout_key=jax.random.key(0))
     np.testing.assert_array_equal(zero_rate, eval_out)
 
 
@@ -289,11 +292,12 @@ def test_dropout_only_with_a_key_and_reproducible(enc):
 def test_encoder_stack_equals_layers_one_by_one():
     layers = [_random_params(init_encoder_layer, 10 + i, D, F) for i in range(3)]
     x, key = _inputs(20, 3, 6, D), jax.random.key(7)
-    kwargs = {"num_heads": H, "key_padding_mask": MASK_3x6, "dropout_rate": 0.2}
-    stack = jax.jit(lambda p, x, k: encoder_stack(p, x, dropout_key=k, **kwargs))(stack_layers(layers), x, key)
+    options = TransformerOptions(num_heads=H, dropout_rate=0.2)
+    run = jax.jit(lambda p, x, k: encoder_stack(p, x, options, key_padding_mask=MASK_3x6, dropout_key=k))
+    stack = run(stack_layers(layers), x, key)
     h = x
     for layer, k in zip(layers, jax.random.split(key, 3)):
-        h = encoder_layer(layer, h, dropout_key=k, **kwargs)
+        h = encoder_layer(layer, h, options, key_padding_mask=MASK_3x6, dropout_key=k)
     np.testing.assert_allclose(stack, h, atol=1e-5)
 
 
@@ -302,13 +306,13 @@ def test_encoder_stack_equals_layers_one_by_one():
 def test_encoder_stack_with_num_queries_gives_the_first_outputs_of_the_full_stack(num_layers, norm_first):
     stack = stack_layers([_random_params(init_encoder_layer, 30 + i, D, F) for i in range(num_layers)])
     x = _inputs(31, 3, 6, D)
-    kwargs = {"num_heads": H, "key_padding_mask": MASK_3x6, "norm_first": norm_first}
-    full = encoder_stack(stack, x, **kwargs)
-    first = encoder_stack(stack, x, num_queries=2, **kwargs)
+    options = TransformerOptions(num_heads=H, norm_first=norm_first)
+    full = encoder_stack(stack, x, options, key_padding_mask=MASK_3x6)
+    first = encoder_stack(stack, x, options, key_padding_mask=MASK_3x6, num_queries=2)
     assert first.shape == (3, 2, D)
     np.testing.assert_allclose(first, full[:, :2], atol=1e-5)
     with pytest.raises(ValueError, match="num_queries"):
-        encoder_stack(stack, x, num_queries=2, causal=True, num_heads=H)
+        encoder_stack(stack, x, TransformerOptions(num_heads=H, causal=True), num_queries=2)
 
 
 def test_unrolled_stacks_equal_scanned_ones():
@@ -316,9 +320,9 @@ def test_unrolled_stacks_equal_scanned_ones():
     dec = stack_layers([_random_params(init_decoder_layer, 42 + i, D, F) for i in range(2)])
     x, memory, key = _inputs(43, 3, 6, D), _inputs(44, 3, 1, D), jax.random.key(9)
     def run(unroll):
-        kwargs = {"num_heads": H, "dropout_rate": 0.2, "dropout_key": key, "unroll": unroll}
-        return (encoder_stack(enc, x, key_padding_mask=MASK_3x6, **kwargs),
-                decoder_stack(dec, x, memory, tgt_key_padding_mask=MASK_3x6, **kwargs))
+        options = TransformerOptions(num_heads=H, dropout_rate=0.2, unroll=unroll)
+        return (encoder_stack(enc, x, options, key_padding_mask=MASK_3x6, dropout_key=key),
+                decoder_stack(dec, x, memory, options, tgt_key_padding_mask=MASK_3x6, dropout_key=key))
 
     for a, b in zip(run(True), run(False), strict=True):
         np.testing.assert_allclose(a, b, atol=1e-5)
@@ -327,12 +331,88 @@ def test_unrolled_stacks_equal_scanned_ones():
 def test_decoder_stack_equals_layers_one_by_one():
     layers = [_random_params(init_decoder_layer, 20 + i, D, F) for i in range(2)]
     tgt, memory = _inputs(21, 2, 5, D), _inputs(22, 2, 1, D)
-    kwargs = {"num_heads": H, "tgt_key_padding_mask": MASK_3x6[1:, :5], "causal": True}
-    stack = decoder_stack(stack_layers(layers), tgt, memory, **kwargs)
+    options, kwargs = TransformerOptions(num_heads=H, causal=True), {"tgt_key_padding_mask": MASK_3x6[1:, :5]}
+    stack = decoder_stack(stack_layers(layers), tgt, memory, options, **kwargs)
     h = tgt
     for layer in layers:
-        h = decoder_layer(layer, h, memory, **kwargs)
+        h = decoder_layer(layer, h, memory, options, **kwargs)
     np.testing.assert_allclose(stack, h, atol=1e-5)
+
+
+# ---------------------------------------------------------------------------------------- cached decoding
+
+
+def _cached_pass(p, tgt, memory, tgt_mask, memory_mask, options):
+    """``tgt [B, T, D]`` decoded one position at a time through the cache, positions traced in a scan."""
+    cache = init_decoder_cache(p, memory, tgt.shape[1], options, tgt_key_padding_mask=tgt_mask,
+                               memory_key_padding_mask=memory_mask)
+
+    def step(cache, t):
+        out, cache = decoder_stack_step(p, cache, tgt[:, t], t, options)
+        return cache, out
+
+    return jax.lax.scan(step, cache, jnp.arange(tgt.shape[1]))[1].swapaxes(0, 1)
+
+
+@pytest.mark.parametrize("batch", [1, 32])
+@pytest.mark.parametrize("options", [TransformerOptions(num_heads=H, causal=True), JOEYNMT],
+                         ids=["post-norm-gelu", "joeynmt-pre-norm-relu"])
+def test_cached_decoding_equals_full_causal_pass_at_every_frame(compile, batch, options):
+    frames, memory_frames = 7, 5
+    p = stack_layers([_random_params(init_decoder_layer, 50 + i, D, F) for i in range(3)])
+    rng = np.random.default_rng(batch)
+    tgt, memory = _inputs(51, batch, frames, D), _inputs(52, batch, memory_frames, D)
+    # padded target and memory positions, as ACTOR's generation has them (padded frames get outputs too)
+    tgt_mask = np.arange(frames) < rng.integers(1, frames + 1, (batch, 1))
+    memory_mask = np.arange(memory_frames) < rng.integers(1, memory_frames + 1, (batch, 1))
+    cached = compile(_cached_pass, static=("options",))(p, tgt, memory, tgt_mask, memory_mask, options=options)
+    full = decoder_stack(p, tgt, memory, options, tgt_key_padding_mask=tgt_mask, memory_key_padding_mask=memory_mask)
+    assert cached.shape == (batch, frames, D)
+    np.testing.assert_allclose(cached, full, atol=1e-5, rtol=0)
+
+
+def test_decoder_stack_step_reads_only_the_cache_and_its_token():
+    # Stepping position 2 after positions 0 and 1 gives the full pass's output there, whatever later tokens hold
+    # (the full pass sees them but masks them); concrete positions, eagerly.
+    p = stack_layers([_random_params(init_decoder_layer, 60 + i, D, F) for i in range(2)])
+    tgt, memory = _inputs(61, 2, 4, D), _inputs(62, 2, 3, D)
+    cache = init_decoder_cache(p, memory, 4, JOEYNMT)
+    for t in range(3):
+        out, cache = decoder_stack_step(p, cache, tgt[:, t], t, JOEYNMT)
+    changed = tgt.at[:, 3].set(100.0)
+    np.testing.assert_allclose(out, decoder_stack(p, changed, memory, JOEYNMT)[:, 2], atol=1e-5, rtol=0)
+    written = np.any(np.asarray(cache.keys) != 0, axis=(2, 4))  # [L, B, T]
+    assert written[..., :3].all() and not written[..., 3].any()
+
+
+def test_cached_decoding_rejects_positions_past_the_cache_and_mismatched_inputs():
+    p = stack_layers([_random_params(init_decoder_layer, 70 + i, D, F) for i in range(2)])
+    memory, token = _inputs(71, 2, 3, D), _inputs(72, 2, D)
+    cache = init_decoder_cache(p, memory, 4, JOEYNMT)
+    with pytest.raises(ValueError, match=r"position: expected 0 <= position < 4 \(the cache's length\), got 4"):
+        decoder_stack_step(p, cache, token, 4, JOEYNMT)
+    with pytest.raises(ValueError, match=r"position: expected 0 <= position < 4"):
+        decoder_stack_step(p, cache, token, jnp.int32(-1), JOEYNMT)
+    with pytest.raises(ValueError, match=r"token: expected \[B, D\] = \(2, 16\)"):
+        decoder_stack_step(p, cache, token[:, None], 0, JOEYNMT)
+    with pytest.raises(ValueError, match=r"cache: built for 2 layers of 4 heads"):
+        decoder_stack_step(p, cache, token, 0, TransformerOptions(num_heads=2, causal=True))
+    with pytest.raises(ValueError, match=r"options.causal: cached decoding reproduces causal self-attention"):
+        init_decoder_cache(p, memory, 4, OPTIONS)
+    with pytest.raises(ValueError, match=r"tgt_key_padding_mask: expected shape \[B, T\] = \(2, 4\)"):
+        init_decoder_cache(p, memory, 4, JOEYNMT, tgt_key_padding_mask=np.ones((2, 3), bool))
+    with pytest.raises(ValueError, match=r"length: expected a Python int >= 1"):
+        init_decoder_cache(p, memory, 0, JOEYNMT)
+
+
+def test_transformer_options_name_the_bad_field():
+    with pytest.raises(ValueError, match=r"TransformerOptions.activation: expected 'gelu' or 'relu', got 'tanh'"):
+        TransformerOptions(num_heads=H, activation="tanh")
+    with pytest.raises(ValueError, match=r"TransformerOptions.num_heads: expected an int >= 1, got 0"):
+        TransformerOptions(num_heads=0)
+    with pytest.raises(ValueError, match=r"TransformerOptions.dropout_rate: expected in \[0, 1\), got 1.0"):
+        TransformerOptions(num_heads=H, dropout_rate=1.0)
+    assert hash(JOEYNMT) == hash(TransformerOptions(H, "relu", True, 1e-6, 0.0, True))  # static under jit
 
 
 # ----------------------------------------------------------------------------------- init, sizes and names
@@ -394,7 +474,7 @@ def test_state_dict_names_match_torch_and_round_trip():
 
 def test_layers_are_jittable_with_masks_as_arguments(enc):
     x = _inputs(23, 3, 6, D)
-    fn = jax.jit(lambda p, x, m: encoder_layer(p, x, num_heads=H, key_padding_mask=m))
-    eager = encoder_layer(enc, x, num_heads=H, key_padding_mask=MASK_3x6)
+    fn = jax.jit(lambda p, x, m: encoder_layer(p, x, OPTIONS, key_padding_mask=m))
+    eager = encoder_layer(enc, x, OPTIONS, key_padding_mask=MASK_3x6)
     np.testing.assert_allclose(fn(enc, x, MASK_3x6), eager, atol=1e-6)
     assert isinstance(enc.self_attn, AttentionParams)

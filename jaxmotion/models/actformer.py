@@ -49,7 +49,14 @@ import jax.numpy as jnp
 from jaxmotion.nn.core import LayerNormParams, LinearParams, init_linear, layer_norm, linear
 from jaxmotion.nn.gp_prior import CHANNELS
 from jaxmotion.nn.spectral_norm import SpectralState, init_spectral_state, spectral_normalize
-from jaxmotion.nn.transformer import AttentionParams, EncoderLayerParams, encoder_layer, sinusoidal_encoding, stack_layers
+from jaxmotion.nn.transformer import (
+    AttentionParams,
+    EncoderLayerParams,
+    TransformerOptions,
+    encoder_layer,
+    sinusoidal_encoding,
+    stack_layers,
+)
 
 _EPS = 1e-6  # the blocks' and the last norm's LayerNorm eps
 
@@ -248,7 +255,7 @@ def normalized_block(block: EncoderLayerParams, spectral: BlockSpectral, train: 
 
 def _block(p: EncoderLayerParams, x: jax.Array, heads: int) -> jax.Array:
     """One pre-LN block over the middle axis of ``x [N, S, D]``."""
-    return encoder_layer(p, x, num_heads=heads, activation="gelu", norm_first=True, layer_norm_eps=_EPS)
+    return encoder_layer(p, x, TransformerOptions(num_heads=heads, norm_first=True, layer_norm_eps=_EPS))
 
 
 def normalize_output(x: jax.Array, output: str) -> jax.Array:

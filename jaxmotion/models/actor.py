@@ -36,7 +36,9 @@ both repeated per frame:
   with ``x_{−1} = 0``, final LayerNorm, ``Linear(d -> J·C)`` without bias. ``autoencode(train=True)`` and
   :func:`decode` with a ``target`` use teacher forcing (the ground-truth previous frame); :func:`generate`,
   :func:`decode` without a target and ``autoencode(train=False)`` decode frame by frame, feeding each output
-  back in, as ACTOR does outside training.
+  back in, as ACTOR does outside training; they do it through a key/value cache
+  (:func:`jaxmotion.nn.transformer.decoder_stack_step`), which gives the frames of re-running the causal pass
+  for every frame at the cost of one pass.
 
 Layers, heads, widths and dropout are fields; the rotation representation is the input's C. Parameters are
 pytrees of NamedTuples in PyTorch's layout (``jaxmotion.nn.transformer``; field names follow ACTOR's modules);
@@ -75,8 +77,11 @@ from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
 from jaxmotion.nn.transformer import (
     DecoderLayerParams,
     EncoderLayerParams,
+    TransformerOptions,
     decoder_stack,
+    decoder_stack_step,
     encoder_stack,
+    init_decoder_cache,
     init_decoder_stack,
     init_encoder_stack,
     sinusoidal_encoding,
@@ -329,11 +334,18 @@ def _check_fc_frames(config: ActorConfig, frames: int) -> None:
                          f"([B, {config.frames}, J, C] and mask [B, {config.frames}]), got T = {frames}")
 
 
-def _stack_kwargs(config: ActorConfig, key: jax.Array | None) -> dict:
+def _transformer_options(config: ActorConfig, key: jax.Array | None) -> TransformerOptions:
+    """The VAE's torch 1.7 stacks (post-norm, eps 1e-5)."""
     # A key means training: unrolled layer loops make a CPU training step ~20% faster (XLA schedules the
     # backward pass of a scan poorly there); inference keeps the scan, which runs as fast and compiles faster.
-    return {"num_heads": config.heads, "activation": config.activation, "dropout_rate": config.dropout,
-            "dropout_key": key, "unroll": key is not None}
+    return TransformerOptions(num_heads=config.heads, activation=config.activation, dropout_rate=config.dropout,
+                              unroll=key is not None)
+
+
+def _autoregressive_options(config: ActorConfig) -> TransformerOptions:
+    """The autoregressive decoder's joeynmt layers: pre-norm, LayerNorm eps 1e-6, ReLU FF, causal."""
+    return TransformerOptions(num_heads=config.heads, activation="relu", norm_first=True, layer_norm_eps=1e-6,
+                              dropout_rate=config.dropout, causal=True)
 
 
 def _split(key: jax.Array | None) -> tuple[jax.Array | None, jax.Array | None]:
@@ -387,9 +399,11 @@ def _encode_transformer(p: ActorEncoderParams, config: ActorConfig, x: jax.Array
         mask = jnp.concatenate([jnp.ones((batch, 2), bool), mask], axis=1)
     h = dropout(h + sinusoidal_encoding(jnp.arange(h.shape[1]), config.width), config.dropout, k_pe)
     if config.distribution_tokens:  # only the µ and Σ tokens' outputs are read: the last layer computes those
-        out = encoder_stack(p.layers, h, key_padding_mask=mask, num_queries=2, **_stack_kwargs(config, k_layers))
+        out = encoder_stack(p.layers, h, _transformer_options(config, k_layers), key_padding_mask=mask,
+                            dropout_key=k_layers, num_queries=2)
         return out[:, 0], out[:, 1]
-    out = encoder_stack(p.layers, h, key_padding_mask=mask, **_stack_kwargs(config, k_layers))
+    out = encoder_stack(p.layers, h, _transformer_options(config, k_layers), key_padding_mask=mask,
+                        dropout_key=k_layers)
     # ACTOR's "average_encoder" ablation averages every output, padded frames included.
     pooled = out.mean(axis=1)
     return linear(p.mu_layer, pooled), linear(p.sigma_layer, pooled)
@@ -432,8 +446,8 @@ def _decode_transformer(p: ActorDecoderParams, config: ActorConfig, z: jax.Array
         memory = linear(p.z_action_linear, jnp.concatenate([z, onehot], axis=-1))
     queries = jnp.broadcast_to(sinusoidal_encoding(jnp.arange(frames), config.width), (batch, frames, config.width))
     queries = dropout(queries, config.dropout, k_pe)
-    out = decoder_stack(p.layers, queries, memory[:, None], tgt_key_padding_mask=mask,
-                        **_stack_kwargs(config, k_layers))
+    out = decoder_stack(p.layers, queries, memory[:, None], _transformer_options(config, k_layers),
+                        tgt_key_padding_mask=mask, dropout_key=k_layers)
     return _frames_out(linear(p.final_layer, out), config, mask)
 
 
@@ -457,44 +471,54 @@ def _decode_fc(p: FcDecoderParams, config: ActorConfig, z: jax.Array, actions: j
     return jnp.where(mask[:, :, None, None], x, 0.0)
 
 
-def _decode_autoregressive_step(p: AutoregressiveDecoderParams, config: ActorConfig, memory: jax.Array,
-                                previous: jax.Array, conditioning: jax.Array, mask: jax.Array,
-                                key: jax.Array | None) -> jax.Array:
-    """One causal pass: ``previous [B, T, J·C]`` (frame t holds x_{t−1}, frame 0 zeros) -> ``[B, T, J·C]``,
-    whose frame t depends on ``previous[:, :t + 1]`` only; padded frames zero."""
-    k_emb, k_layers = _split(key)
+def _autoregressive_target(p: AutoregressiveDecoderParams, config: ActorConfig, previous: jax.Array,
+                           conditioning: jax.Array, positions: jax.Array) -> jax.Array:
+    """The decoder's input: ``Linear(concat(x_{t−1}, a, τ_t)) + PE(t)``. ``previous [..., J·C]`` and
+    ``conditioning [..., K + 1]`` for all frames (``[B, T, ·]``, ``positions [T]``) or one (``[B, ·]``,
+    ``positions [1]``) -> ``[..., d]``."""
     target = linear(p.embedding_x, jnp.concatenate([previous, conditioning], axis=-1))
-    target = target + sinusoidal_encoding(jnp.arange(mask.shape[1]), config.width)
-    target = dropout(target, config.dropout, k_emb)
-    out = decoder_stack(p.layers, target, memory, num_heads=config.heads, tgt_key_padding_mask=mask,
-                        memory_key_padding_mask=mask, causal=True, activation="relu", norm_first=True,
-                        layer_norm_eps=1e-6, dropout_rate=config.dropout, dropout_key=k_layers)
-    out = layer_norm(p.layer_norm, out, 1e-6) @ p.output_layer.weight.T
-    return jnp.where(mask[..., None], out, 0.0)
+    return target + sinusoidal_encoding(positions, config.width)
+
+
+def _autoregressive_frames(p: AutoregressiveDecoderParams, out: jax.Array, mask: jax.Array) -> jax.Array:
+    """Decoder outputs ``[..., d]`` -> frames ``[..., J·C]`` (final LayerNorm, bias-free output layer), zero
+    where ``mask [...]`` is False."""
+    frames = layer_norm(p.layer_norm, out, 1e-6) @ p.output_layer.weight.T
+    return jnp.where(mask[..., None], frames, 0.0)
 
 
 def _decode_autoregressive(p: AutoregressiveDecoderParams, config: ActorConfig, z: jax.Array, actions: jax.Array,
                            mask: jax.Array, key: jax.Array | None, target: jax.Array | None) -> jax.Array:
-    """``z [B, d]`` -> ``[B, T, J, C]``, teacher-forced by ``target [B, T, J, C]`` or, without it, frame by
-    frame on its own outputs."""
+    """``z [B, d]`` -> ``[B, T, J, C]``, teacher-forced by ``target [B, T, J, C]`` (one causal pass, dropout
+    with a key) or, without it, frame by frame on its own outputs (eval mode, through the key/value cache)."""
     batch, frames = mask.shape
-    conditioning = _action_and_time(actions, mask, config.num_classes)
+    conditioning = _action_and_time(actions, mask, config.num_classes)  # [B, T, K + 1]
     memory = linear(p.embedding, _with_latent(z, actions, mask, config.num_classes))  # [B, T, d]
+    options = _autoregressive_options(config)
 
-    def run(sequence):  # sequence [B, T, J·C] -> outputs of the pass fed with it shifted by one frame
-        previous = jnp.pad(sequence[:, :-1], ((0, 0), (1, 0), (0, 0)))
-        return _decode_autoregressive_step(p, config, memory, previous, conditioning, mask, key)
+    if target is not None:  # teacher forcing: frame t reads target frame t − 1 (zeros before frame 0)
+        k_emb, k_layers = _split(key)
+        previous = jnp.pad(target.reshape(batch, frames, -1)[:, :-1], ((0, 0), (1, 0), (0, 0)))
+        h = _autoregressive_target(p, config, previous, conditioning, jnp.arange(frames))
+        out = decoder_stack(p.layers, dropout(h, config.dropout, k_emb), memory, options,
+                            tgt_key_padding_mask=mask, memory_key_padding_mask=mask, dropout_key=k_layers)
+        return _frames_out(_autoregressive_frames(p, out, mask), config, mask)
 
-    if target is not None:  # teacher forcing
-        return _frames_out(run(target.reshape(batch, frames, -1)), config, mask)
+    # Frame by frame: step t embeds frame t − 1 (already zero when padded, as the causal pass reads it),
+    # decodes position t from the cached keys and values of positions < t and the memory's, computed once.
+    cache = init_decoder_cache(p.layers, memory, frames, options, tgt_key_padding_mask=mask,
+                               memory_key_padding_mask=mask)
 
-    # Frame by frame: pass t reads frames < t of the growing output, which earlier passes have filled, and
-    # fixes frame t; the causal mask makes the still-zero frames > t irrelevant, so the shape stays static.
-    def step(t, out):
-        return out.at[:, t].set(jax.lax.dynamic_index_in_dim(run(out), t, axis=1, keepdims=False))
+    def step(carry, t):
+        cache, previous = carry  # previous [B, J·C]
+        h = _autoregressive_target(p, config, previous, conditioning[:, t], t[None])
+        out, cache = decoder_stack_step(p.layers, cache, h, t, options)
+        frame = _autoregressive_frames(p, out, mask[:, t])
+        return (cache, frame), frame
 
-    out = jax.lax.fori_loop(0, frames, step, jnp.zeros((batch, frames, config.features), z.dtype))
-    return _frames_out(out, config, mask)
+    first = jnp.zeros((batch, config.features), z.dtype)
+    _, out = jax.lax.scan(step, (cache, first), jnp.arange(frames))  # [T, B, J·C]
+    return _frames_out(out.swapaxes(0, 1), config, mask)
 
 
 # ------------------------------------------------------------------------------------------------ dispatch
@@ -547,9 +571,9 @@ def decode(params: AnyActorParams, config: ActorConfig, z: jax.Array, actions: j
     """``z [B, d]``, ``actions [B]``, ``mask [B, T]`` -> ``x [B, T, J, C]`` (zero on padded frames).
 
     ``target [B, T, J, C]`` (``"autoregressive"`` only): teacher forcing, frame t is decoded from
-    ``target[:, :t]``; without it the autoregressive decoder runs frame by frame on its own outputs (with a
-    ``key``, every pass uses the same dropout masks, so the result is the teacher-forced decoding of itself).
-    ``"fc"`` needs ``T == config.frames``.
+    ``target[:, :t]``; without it the autoregressive decoder runs frame by frame on its own outputs, in eval
+    mode (no ``key``), through a key/value cache: the same frames as re-running the causal pass for every
+    frame, in one pass's work. ``"fc"`` needs ``T == config.frames``.
     """
     if z.ndim != 2 or z.shape[1] != config.width:
         raise ValueError(f"z: expected [B, {config.width}], got {tuple(z.shape)}")
@@ -564,6 +588,9 @@ def decode(params: AnyActorParams, config: ActorConfig, z: jax.Array, actions: j
                              f"{config.architecture!r}; pass target=None")
         return variant.decode(params.decoder, config, z, actions, mask, key)
     expected = (*mask.shape, config.num_joints, config.channels)
+    if target is None and key is not None:
+        raise ValueError("key: frame-by-frame autoregressive decoding (no target) runs in eval mode, without "
+                         "dropout; pass key=None, or a target for teacher-forced decoding with dropout")
     if target is not None and target.shape != expected:
         raise ValueError(f"target: expected [B, T, J, C] = {expected}, got {tuple(target.shape)}")
     return variant.decode(params.decoder, config, z, actions, mask, key, target)

@@ -92,7 +92,7 @@ from jaxmotion.nn.core import BatchNormParams, BatchNormStats, LinearParams, bat
 from jaxmotion.nn.gp_prior import CHANNELS
 from jaxmotion.nn.graph_coarsening import critic_adjacency
 from jaxmotion.nn.spectral_norm import SpectralState, init_spectral_state, spectral_normalize
-from jaxmotion.nn.transformer import EncoderLayerParams, encoder_layer, init_encoder_layer
+from jaxmotion.nn.transformer import EncoderLayerParams, TransformerOptions, encoder_layer, init_encoder_layer
 
 BN_EPS = 1e-5  # BatchNorm eps (PyTorch's)
 BN_MOMENTUM = 0.1  # running = (1 - momentum) · running + momentum · batch (PyTorch's)
@@ -335,8 +335,7 @@ def _t_former(stage: StageParams, x: jax.Array, heads: int) -> jax.Array:
     """One pre-LN block over the frames of each node: ``x [B, T, N, c]`` -> same shape."""
     batch, frames, nodes, width = x.shape
     seq = jnp.swapaxes(x, 1, 2).reshape(batch * nodes, frames, width) + stage.positions  # [B·N, T, c]
-    seq = encoder_layer(stage.block, seq, num_heads=heads, activation="gelu", norm_first=True,
-                        layer_norm_eps=_LN_EPS)
+    seq = encoder_layer(stage.block, seq, TransformerOptions(num_heads=heads, norm_first=True, layer_norm_eps=_LN_EPS))
     return jnp.swapaxes(seq.reshape(batch, nodes, frames, width), 1, 2)
 
 
