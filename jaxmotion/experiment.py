@@ -52,10 +52,6 @@ from jaxmotion.distributed import data_mesh, initialize_distributed, is_primary
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
 
-#: The file beside ``metrics.json`` that records the session that finished a seed (start, wall time, peak
-#: memory): it differs on every run, so it is kept out of ``metrics.json``.
-SESSION_FILE = "run.json"
-
 
 class RunConflictError(RuntimeError):
     """The results folder holds a run made with another config or other inputs."""
@@ -239,7 +235,7 @@ def _run_locked(ctx: RunContext, config: Any, run_fn: RunFn, claims: Sequence[Cl
     print(f"[{name}] {ctx.profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
     if is_primary():
-        write_json(ctx.workdir / SESSION_FILE, provenance.session(started, time.monotonic() - clock, resumed))
+        write_json(ctx.workdir / provenance.SESSION_FILE, provenance.session(started, time.monotonic() - clock, resumed))
     return write_results(ctx.workdir, rows, f"{name} ({ctx.profile}, seed {seed})", claims,
                          run={"environment": ctx.record(config)["environment"],
                               "evaluators": provenance.evaluators(config, ctx.data_root)})

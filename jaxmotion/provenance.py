@@ -35,6 +35,10 @@ from jaxmotion.data import synthetic
 from jaxmotion.evaluation.recognizers import RecognizerTraining, cache_folder, data_source, usable_cpus
 from jaxmotion.evaluation.tables import TableData
 
+#: The file beside ``metrics.json`` that records the session that finished a seed (:func:`session`): it differs
+#: on every run, so it is kept out of ``metrics.json``, which is the same bytes for the same seed and machine.
+SESSION_FILE = "run.json"
+
 
 @functools.lru_cache(maxsize=1)
 def _git_commit() -> str | None:
