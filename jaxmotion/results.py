@@ -109,8 +109,7 @@ def page(experiment: str, profile: str, runs: Sequence[SeedRun], over_seeds: str
     """The markdown page of one experiment and profile: each seed's table and run record, then the table over
     seeds when there is one."""
     text = (f"# {experiment}, {profile} profile\n\n"
-            f"Made by `python -m jaxmotion.results` from the run folders; regenerate it rather than edit it.\n"
-            f"Command: `python -m experiments.{experiment} --profile {profile}`.\n")
+            "Made by `python -m jaxmotion.results` from the run folders; regenerate it rather than edit it.\n")
     for run in sorted(runs, key=lambda r: r.record["seed"]):
         text += f"\n{run.table.rstrip()}\n\n{record_table(run_record(run))}"
     if over_seeds is not None:
