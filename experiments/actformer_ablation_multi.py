@@ -18,9 +18,8 @@ stacked on channels) and, for FID_a, the one-person NTU-25 ST-GCN max-pooled ove
     python -m experiments.actformer_ablation_multi --seeds 0,1,2
 
 Table: rows (5)-(10), measured rows followed by their "(reported)" rows, then Real; columns Acc, FID_m,
-FID_w, FIDa_m, FIDa_w. Profiles: :func:`~jaxmotion.train.actformer.actformer_table_training`; cpu trains each of
-the six rows 1 000 steps instead of 2 000, as many steps in all as Table 5's three rows (whose cpu run took
-65 minutes on 2 cores with its evaluators trained on the way).
+FID_w, FIDa_m, FIDa_w. Profiles: :func:`~jaxmotion.recipes.actformer.actformer_table_training`; cpu trains each of
+the six rows 1 000 steps instead of 2 000, as many steps in all as Table 5's three rows.
 """
 
 from __future__ import annotations

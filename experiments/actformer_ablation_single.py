@@ -15,9 +15,8 @@ ActFormer's protocol by its NTU-25 ST-GCN evaluator (:func:`~jaxmotion.evaluatio
     python -m experiments.actformer_ablation_single --seeds 0,1,2   # intervals over training seeds
 
 Table: rows (1)-(4), each measured row followed by its "(reported)" row, then Real; columns Acc, FID_m, FID_w.
-Profiles: the recipes of :func:`~jaxmotion.train.actformer.actformer_table_training` (cpu: a small critic,
-2 000 steps a row; 1 h 47 min on 2 cores with an empty cache, 29 min of it making the data and
-training the evaluator and 20 min scoring the 120 classes).
+Profiles: the recipes of :func:`~jaxmotion.recipes.actformer.actformer_table_training` (cpu: a small critic,
+2 000 steps a row; scoring the 120 classes is a large part of the run).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ on the same 15-joint protocol, is measured by :mod:`experiments.actformer_multi`
 
 Table: rows (1)-(3), measured rows followed by their "(reported)" rows, then Real; columns "NTU-2P Acc",
 "NTU-2P FID_m", "NTU-2P FID_w", "NTU-2P FIDa_m", "NTU-2P FIDa_w", and the reported "Combat <k>P FIDa".
-Profiles: :func:`~jaxmotion.train.actformer.actformer_table_training`.
+Profiles: :func:`~jaxmotion.recipes.actformer.actformer_table_training`.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ trained on the 15 joints NTU-25 and GTA-22 share (:data:`~jaxmotion.geometry.ske
 Baselines: Action2Motion on NTU-2P, the GRU VAE on both persons' joint positions side by side in each frame
 (the paper scales the one-person baselines so), in the dataset's frame; CSGN on NTU-2P and on every combat split
 (the graph-convolution generator writing every person's channels on each joint,
-:func:`~jaxmotion.train.actformer.csgn_table_training`, against ActFormer's critic on the stacked persons).
+:func:`~jaxmotion.recipes.actformer.csgn_table_training`, against ActFormer's critic on the stacked persons).
 ACTOR carries the paper's numbers only (this project's ACTOR learns joint rotations, which NTU's skeletons do
 not have).
 
@@ -21,8 +21,8 @@ not have).
 
 Table: rows Real, then each method's measured row followed by its "(reported)" row; columns "NTU-2P Acc",
 "NTU-2P FID_m", "NTU-2P FID_w", "NTU-2P FIDa_m", "NTU-2P FIDa_w", "Combat <k>P FIDa". Profiles:
-:func:`~jaxmotion.train.actformer.actformer_table_training` and ``csgn_table_training``; ``combat``: the
-person counts run. To stay within about 40 minutes on 2 cores, the cpu profile trains the NTU-2P models for
+:func:`~jaxmotion.recipes.actformer.actformer_table_training` and ``csgn_table_training``; ``combat``: the
+person counts run. To keep the cpu profile within a CPU's reach, it trains the NTU-2P models for
 :data:`NTU2P_CPU_STEPS` steps and GTA Combat's 2-person split only, for :data:`COMBAT_CPU_STEPS` steps (a
 two-person step costs twice a one-person one, a five-person one five times); smoke and paper run all four.
 

@@ -8,7 +8,7 @@ of 60 frames per class against the train split cut into non-overlapping 64-frame
 per-class recall, FID_m the mean of the per-class FIDs, FID_w the whole-set FID) by the dataset's ST-GCN
 evaluator trained on the other split (:data:`~jaxmotion.evaluation.recognizers.ACTFORMER_EVALUATORS`):
 
-* **ActFormer**: :mod:`jaxmotion.train.actformer` (:func:`~jaxmotion.train.actformer.actformer_table_training`),
+* **ActFormer**: :mod:`jaxmotion.train.actformer` (:func:`~jaxmotion.recipes.actformer.actformer_table_training`),
   root + limb vectors on NTU-13 and NTU-1P, rot6d + translation on NTURecon-1P and BABEL;
 * **ACTOR**: this project's Transformer VAE (:mod:`jaxmotion.train.actor`) on joint rotations, its windows in
   the dataset's frame (``canonical=False``) as ActFormer's evaluators read it: on the three SMPL stand-ins
@@ -16,7 +16,7 @@ evaluator trained on the other split (:data:`~jaxmotion.evaluation.recognizers.A
 * **Action2Motion**: the GRU VAE on joint positions (:mod:`jaxmotion.train.a2m`), in the dataset's frame, where
   the evaluator reads positions (NTU-13, NTU-1P; on the SMPL sets it would need rotations it does not make);
 * **CSGN**: the graph-convolution GAN generator on the GP latent with conditional BatchNorm, trained by
-  ActFormer's recipe against the same projection critic (:func:`~jaxmotion.train.actformer.csgn_table_training`,
+  ActFormer's recipe against the same projection critic (:func:`~jaxmotion.recipes.actformer.csgn_table_training`,
   :mod:`jaxmotion.models.csgn`), on every dataset.
 
 Rows the paper has and a dataset does not run carry the paper's numbers only.
@@ -34,8 +34,8 @@ comparable with the paper's); the paper's protocol draws one set of generated mo
 the evaluator reads their limbs again (:mod:`jaxmotion.pipelines.actformer`).
 
 Profiles: ``paper`` is the authors' recipe (500 epochs, batch 64, critic base 32) on every dataset. ``cpu``
-runs NTU-13 only, with a critic of base 8 and batches of 16 for 2 000 steps: the full critic takes about 10 s
-a step on 2 cores.
+runs NTU-13 only, with a critic of base 8 and batches of 16 for 2 000 steps: the full critic's step is too slow
+for a CPU.
 """
 
 from __future__ import annotations

@@ -37,13 +37,10 @@ the extracted table; they are taken from Table 1, whose Real and L_R + L_V rows 
 to these rows'.
 
 cpu profile: d 64, 2 layers, 900 steps per row, 6 rows × 2 datasets, 3 repetitions of 500 motions (the
-autoregressive row's frame-by-frame generation is the cost). Estimated from step times measured on the 2-core
-CPU with nothing else running (see ``CPU``; about 1.7 times longer while another job shares it): about 20
-minutes (training 13, compiling 3, evaluating 3), plus about 6 minutes the first time, to train and cache
-the two evaluators (shared with the other ACTOR experiments). Measured (seed 0, evaluators cached, another
-job sharing the cores): 30 minutes; 7 of the 11 claims hold (the Transformer beats FC and GRU on both
-datasets by orders of magnitude on UESTC), 3 are inconclusive, and the bias token's NTU-13 claim does not
-hold (w/o bias token FID_tr 8.6 ± 1.8 vs 4.5 ± 0.9).
+autoregressive row's frame-by-frame generation is its largest cost); the two evaluators are trained on first
+use and cached for the other ACTOR experiments.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 """
 
 from __future__ import annotations
@@ -89,9 +86,7 @@ REPORTED = {
 }
 
 # d 64, 2 layers, FF 256, L_P + L_J; a larger learning rate for the short budget (the paper: 390 000 / 532 000
-# steps at 1e-4). Measured on the 2-core CPU, per step: FC 0.03 s, GRU 0.04 s, the Transformers 0.09-0.1 s;
-# 5-20 s to compile each row's step. 3 repetitions of 500 motions: the autoregressive decoder generates frame
-# by frame (25 s per 1 000 motions), the ST-GCN takes 2.5 s per 1 000.
+# steps at 1e-4). The autoregressive decoder generates frame by frame: its rows' evaluation is the slowest.
 CPU = ActorTraining(ActorConfig(num_classes=1, width=64, ff=256, layers=2, heads=4),
                     LoopConfig(900, log_every=100, checkpoint_every=300), losses=ActorLossWeights(joints=1.0),
                     learning_rate=3e-4)

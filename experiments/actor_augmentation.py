@@ -26,9 +26,9 @@ What differs from the paper, and why:
   its training set replaced, tested on ``recognizer.test_count`` (3 000) random test clips.
 * The cpu profile: ACTOR of the headline cpu size for 500 steps per fraction, recognisers 200 steps.
 
-Cost of the cpu profile (here: 2 shared cores; measured under load 0.46 s per ACTOR step and 0.55 s per
-ST-GCN step, about twice as fast unloaded): about 21 minutes unloaded (four ACTOR trainings 9, eight
-recognisers 11, generation 1).
+Cost of the cpu profile: four ACTOR trainings and eight recognisers, the recognisers about half of it.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 
 Outputs in ``results/actor_augmentation/<profile>/seed-<n>/``: the table, ``augmentation.png``, ACTOR's
 checkpoints per fraction (``actor-<pct>/``) and each recogniser's (``recognizers/<row>-<pct>/``).

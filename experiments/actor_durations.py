@@ -24,9 +24,10 @@ What differs from the paper, and why:
 * The cpu profile: ACTOR of the headline cpu size for 2 000 + 200 steps (the paper's 1 000 + 100 epochs
   in proportion), durations 40-120 by 20, 3 repetitions of 1 000 clips.
 
-Cost of the cpu profile (here: 2 shared cores; measured under load 0.46 s per 60-frame ACTOR step and
-1.8 s per 100-frame step, about twice as fast unloaded): about 20 minutes unloaded (fixed model 7,
-fine-tune 3, evaluation at 5 durations 6, the evaluator 4 unless cached by another ACTOR experiment).
+Cost of the cpu profile: the fixed model's training, the fine-tune on longer clips and the evaluation at 5
+durations; the evaluator is trained unless another ACTOR experiment cached it.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 
 Outputs in ``results/actor_durations/<profile>/seed-<n>/``: the table, ``durations.png`` and the
 checkpoints of both models (``fixed-size/``, ``variable-size/``).

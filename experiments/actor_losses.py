@@ -42,12 +42,10 @@ those cells are left out. Note that L_R + L_V's numbers equal Table 2's Transfor
 which trains with the translation: the paper may report that run here.
 
 cpu profile: d 64, 2 layers, 1 500 steps per row, 3 runnable rows × 2 datasets, 5 repetitions of up to
-1 000 motions. Estimated from step times measured on the 2-core CPU with nothing else running (see ``CPU``;
-about 1.7 times longer while another job shares it): about 20 minutes (training 15, compiling 2, evaluating
-3), plus about 6 minutes the first time, to train and cache the two evaluators (shared with the other ACTOR
-experiments). Measured (seed 0, evaluators cached, another job sharing the cores): 24 minutes. The five
-claims with the L_J stand-in hold (UESTC FID_test: L_R + L_J 28.7 ± 1.2, L_R 32.9 ± 0.9, L_J 25 340: it
-does not converge); the two that need L_V are not measured.
+1 000 motions; the two evaluators are trained on first use and cached for the other ACTOR experiments. The
+two claims that need L_V itself are listed as not measured.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 """
 
 from __future__ import annotations
@@ -83,7 +81,6 @@ STAND_IN_TERMS = {"rotations": 1.0, "joints": 1.0}
 NOT_RUN = " (needs an SMPL model: not run)"
 
 # d 64, 2 layers, FF 256; a larger learning rate for the short budget (the paper: 390 000 / 532 000 steps at 1e-4).
-# Measured on the 2-core CPU: 0.08-0.12 s per step, 20-30 s to compile each row's step.
 CPU = ActorTraining(ActorConfig(num_classes=1, width=64, ff=256, layers=2, heads=4),
                     LoopConfig(1500, log_every=100, checkpoint_every=500), learning_rate=3e-4)
 

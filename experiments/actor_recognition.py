@@ -35,9 +35,10 @@ What differs from the paper, and why:
 * Real_orig + Generated repeats the real set to about the generated set's size so that a batch draws
   about as many of each (the paper samples them equally per minibatch; here the sizes are equal).
 
-Cost of the cpu profile (here: 2 shared cores; measured under load 0.46 s per ACTOR step, 0.55 s per
-ST-GCN step, about twice as fast unloaded): about 20 minutes unloaded (ACTOR 7, five recognisers 9,
-building the sets and compiling 5).
+Cost of the cpu profile: one ACTOR training, five recognisers, and building the denoised, interpolated and
+generated sets.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 
 Outputs in ``results/actor_recognition/<profile>/seed-<n>/``: the table (rows: the five training sets,
 the two jitter rows and the paper's numbers as "reported" rows), ACTOR's checkpoints in ``actor/`` and

@@ -33,14 +33,11 @@ Reported numbers (Table 3, means): every cell of the table; the extracted text k
 in order (the Real [21] row matches Action2Motion's own paper).
 
 cpu profile: ACTOR d 64, 2 layers, 3 000 steps and Action2Motion (the paper's sizes) 900 iterations at
-batch 64 (about as many clips seen), on both datasets, 5 repetitions of up to 1 000 motions. Estimated from
-step times measured on the 2-core CPU with nothing else running (see ``CPU`` and
-:func:`jaxmotion.train.a2m.a2m_table_training`; about
-1.7 times longer while another job shares it): about 20 minutes (training 17, compiling and evaluating 3),
-plus about 4 minutes the first time, to train and cache the two evaluators (shared with other experiments).
-Measured (seed 0, evaluators cached, another job sharing the cores): 24 minutes. Three of the four claims
-hold (HumanAct12 FID_tr: ACTOR 2.57 ± 0.22, Action2Motion 9.22 ± 0.23; accuracy on both datasets); on NTU-13
-FID_tr Action2Motion is lower (1.83 ± 0.14 against ACTOR's 2.31 ± 0.17).
+batch 64 (about as many clips seen), on both datasets, 5 repetitions of up to 1 000 motions (see ``CPU`` and
+:func:`jaxmotion.recipes.a2m.a2m_table_training`); the two evaluators are trained on first use and cached for
+the other experiments.
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 """
 
 from __future__ import annotations
@@ -68,8 +65,7 @@ REPORTED = {
 }
 ROWS = ("Real", "Real [21]", "Real*", "CondGRU", "Two-stage GAN", "Act-MoCoGAN", "Action2Motion", "ACTOR")
 
-# ACTOR's cpu recipe (jaxmotion.train.actor.CPU_BASELINE: d 64, 2 layers, 3 000 steps; 0.1 s per step on the
-# 2-core CPU; Action2Motion: 0.23 s per iteration at batch 64)
+# ACTOR's cpu recipe (jaxmotion.recipes.actor.CPU_BASELINE: d 64, 2 layers, 3 000 steps)
 CPU = CPU_BASELINE
 
 # §4.3: "significant improvements over this prior work"; "our GRU implementation obtains similar performance"

@@ -14,9 +14,8 @@ Acc. 91.1±0.3, Div. 31.96±0.36, Multimod. 14.66±0.03; Real: 2.93±0.26, 2.79�
 33.34±0.32, 14.16±0.06. Numbers on the embedded data are not comparable in absolute terms (another
 dataset and another recogniser); the Real row computed here is the reference to compare with.
 
-cpu profile (seed 0; about 20 minutes on 2 free cores, evaluator cached): ACTOR FID_tr 4.78±0.54,
-FID_test 5.52±0.53, Acc. 86.52±1.34, Div. 13.05±0.21, Multimod. 3.29±0.14; Real 0.83, 1.03, 99.32, 13.51,
-2.53 (the version-3 evaluator; the version-2 one gave the same model 81.8% and FID_tr 7.2).
+Measured tables, each with the run record of the machine that made it: ``docs/results/``
+(``python -m jaxmotion.results``).
 
 Outputs in ``results/actor_uestc/<profile>/seed-<n>/``: the table (rows ACTOR and Real, plus the paper's
 numbers as "reported" rows), ``generated.gif`` (3 generated motions for each of the first actions) and

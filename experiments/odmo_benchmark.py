@@ -37,10 +37,10 @@ What differs from the paper, and why:
 
 Reported numbers: Table 1, means (the extracted text keeps the rows and columns in order).
 
-Profiles (:func:`jaxmotion.train.odmo.odmo_table_recipe`): ``paper`` is the authors' recipe (512 pairs,
-400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.train.odmo.CPU_RECIPE`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
-trajectory generator alone has 38 M parameters (its first layer maps 803 inputs to 803 × 59), beyond a
-20-30 minute budget on 2 cores with three ODMO trainings; add it with ``--set 'datasets=["humanact12","uestc"]'``.
+Profiles (:func:`jaxmotion.recipes.odmo.odmo_table_recipe`): ``paper`` is the authors' recipe (512 pairs,
+400 000 steps, on both datasets). ``cpu`` (:data:`jaxmotion.recipes.odmo.CPU_RECIPE`) runs HumanAct12 only: on UESTC's 40 classes ODMO's
+trajectory generator alone has 38 M parameters (its first layer maps 803 inputs to 803 × 59), beyond a cpu
+profile's budget with three ODMO trainings; add it with ``--set 'datasets=["humanact12","uestc"]'``.
 """
 
 from __future__ import annotations

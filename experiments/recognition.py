@@ -5,8 +5,7 @@ ACTOR, ODMO and Neural Marionette score generated motions with a recogniser trai
 released Action2Motion weights (the authors' checkpoints, not in this repository) only read the real
 datasets, so the embedded datasets get their own evaluators, trained here with the same architectures and
 cached for every later evaluation (``jaxmotion.evaluation.recognizers``). This experiment trains all of
-them (or ``--set only=[...]``) and reports held-out accuracy; the target for the ``cpu`` profile is >= 95%
-on the ACTOR/ODMO variants, >= 70% on synth-ntu1p (94 classes with close pairs) and >= 90% on synth-ntu2p.
+them (or ``--set only=[...]``) and reports held-out accuracy.
 
     python -m experiments.recognition                    # cpu profile, all nine evaluators
     python -m experiments.recognition --set only='["synth-uestc/stgcn"]'

@@ -11,7 +11,8 @@ repetitions, shown as mean ± 95% CI). Its ``main`` is one line::
 ``claims`` are the paper's claims from that table (:class:`~jaxmotion.evaluation.claims.Claim`), checked
 on every run. Results land in ``<out>/<experiment>/<profile>/seed-<n>/``: ``config.json`` (the run
 record: config, environment, inputs; :mod:`jaxmotion.provenance`), ``metrics.jsonl`` (training log),
-``metrics.json``, ``table.md`` and ``checkpoints/``. With several seeds,
+``metrics.json`` (the same bytes for the same seed on the same machine), ``run.json`` (the session that
+finished the seed: start, wall time, peak memory), ``table.md`` and ``checkpoints/``. With several seeds,
 ``<out>/<experiment>/<profile>/summary.json`` and ``table.md`` hold mean ± 95% CI over the seeds.
 Re-running the same command resumes: finished seeds are read back, an interrupted one restarts from its
 last checkpoint, and a run folder made with a different config or other inputs is refused. ``--devices``
@@ -27,6 +28,7 @@ import functools
 import json
 import shlex
 import sys
+import time
 import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -197,6 +199,7 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
 
 def _run_locked(ctx: RunContext, config: Any, run_fn: RunFn, claims: Sequence[Claim]) -> dict[str, Any]:
     name, seed = ctx.experiment, ctx.seed
+    started, clock, resumed = provenance.utc_now(), time.monotonic(), _holds_work(ctx.workdir)
     record = {**ctx.record(config), "inputs": provenance.inputs(config, ctx.data_root)}
     config_path, metrics_path = ctx.workdir / "config.json", ctx.workdir / "metrics.json"
     if config_path.exists():
@@ -232,6 +235,8 @@ def _run_locked(ctx: RunContext, config: Any, run_fn: RunFn, claims: Sequence[Cl
         write_json(config_path, record)
     print(f"[{name}] {ctx.profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
     rows = run_fn(config, ctx)
+    if is_primary():
+        write_json(ctx.workdir / provenance.SESSION_FILE, provenance.session(started, time.monotonic() - clock, resumed))
     return write_results(ctx.workdir, rows, f"{name} ({ctx.profile}, seed {seed})", claims,
                          run={"environment": ctx.record(config)["environment"],
                               "evaluators": provenance.evaluators(config, ctx.data_root)})

@@ -1,7 +1,10 @@
 """What a run was made with, for its record: the software and machine, the datasets and the evaluators.
 
 * :func:`environment`: jaxmotion's version and git commit (when run from a checkout), Python, jax and jaxlib
-  versions, the platform, the device and process counts and the usable CPU cores.
+  versions, the platform and device kind, the device and process counts, the CPU model and the usable CPU cores.
+  The same on every run on one machine, so it may go into ``metrics.json``.
+* :func:`session`: when a run started, how long it took and its peak memory; different on every run, so it goes
+  into ``run.json`` beside ``metrics.json``, never into it.
 * :func:`inputs`: every dataset and evaluator a config names (found by walking it: each
   :class:`~jaxmotion.evaluation.tables.TableData` and
   :class:`~jaxmotion.evaluation.recognizers.RecognizerTraining`), each with what identifies its content: an
@@ -14,11 +17,14 @@
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import functools
 import importlib.metadata
 import json
 import platform
+import resource
 import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -28,6 +34,10 @@ import jax
 from jaxmotion.data import synthetic
 from jaxmotion.evaluation.recognizers import RecognizerTraining, cache_folder, data_source, usable_cpus
 from jaxmotion.evaluation.tables import TableData
+
+#: The file beside ``metrics.json`` that records the session that finished a seed (:func:`session`): it differs
+#: on every run, so it is kept out of ``metrics.json``, which is the same bytes for the same seed and machine.
+SESSION_FILE = "run.json"
 
 
 @functools.lru_cache(maxsize=1)
@@ -51,6 +61,20 @@ def _version(package: str) -> str | None:
         return None
 
 
+@functools.lru_cache(maxsize=1)
+def cpu_model() -> str:
+    """The CPU's model name (``/proc/cpuinfo``'s first ``model name``, else :func:`platform.processor`), or
+    ``"unknown"``."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            field, _, value = line.partition(":")
+            if field.strip() == "model name" and value.strip():
+                return value.strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
 def environment() -> dict[str, Any]:
     """The software and machine this process runs on."""
     return {
@@ -60,11 +84,32 @@ def environment() -> dict[str, Any]:
         "jax": jax.__version__,
         "jaxlib": _version("jaxlib"),
         "platform": jax.default_backend(),
+        "device_kind": jax.devices()[0].device_kind,
         "devices": jax.device_count(),
         "local_devices": jax.local_device_count(),
         "processes": jax.process_count(),
+        "cpu_model": cpu_model(),
         "cpu_threads": usable_cpus(),  # XLA's CPU reductions split over them: another count rounds differently
     }
+
+
+def utc_now() -> str:
+    """The current time in UTC, ISO 8601 to the second (``2026-01-31T12:00:00+00:00``)."""
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def peak_rss_bytes() -> int:
+    """The peak resident memory so far of this process or of its largest finished child process, in bytes."""
+    scale = 1 if sys.platform == "darwin" else 1024  # ru_maxrss: bytes on macOS, kilobytes on Linux
+    return scale * max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+                       resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+
+
+def session(started: str, wall_seconds: float, resumed: bool) -> dict[str, Any]:
+    """The record of one session of a run (``run.json``): its start (:func:`utc_now`), its wall time, whether
+    it continued work an earlier session left, and the process's peak memory at its end."""
+    return {"started": started, "wall_seconds": round(wall_seconds, 1), "resumed": resumed,
+            "peak_rss_bytes": peak_rss_bytes()}
 
 
 def _walk(value: Any) -> Iterator[Any]:

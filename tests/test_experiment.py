@@ -12,7 +12,7 @@ import jax
 import numpy as np
 import pytest
 
-from jaxmotion import experiment
+from jaxmotion import experiment, provenance
 from jaxmotion.train import Checkpointer, LoopConfig
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -220,6 +220,24 @@ def test_run_record_holds_the_environment_and_resume_with_other_inputs_is_refuse
     (_seed_dir(tmp_path) / "metrics.json").unlink()
     with pytest.raises(SystemExit, match=r"different config or inputs(.|\n)*inputs.datasets"):
         _run_toy(tmp_path)
+
+
+def test_run_json_records_the_session_and_metrics_json_holds_no_timing(tmp_path):
+    _run_toy(tmp_path)
+    session = json.loads((_seed_dir(tmp_path) / provenance.SESSION_FILE).read_text())
+    assert set(session) == {"started", "wall_seconds", "resumed", "peak_rss_bytes"}
+    assert session["started"].endswith("+00:00") and session["wall_seconds"] > 0 and not session["resumed"]
+    assert session["peak_rss_bytes"] > 10 * 2**20  # a jax process holds more than 10 MiB
+    metrics = (_seed_dir(tmp_path) / "metrics.json").read_text()
+    assert "started" not in metrics and "wall_seconds" not in metrics and "peak_rss" not in metrics
+    assert json.loads(metrics)["run"]["environment"]["cpu_model"]
+
+
+def test_a_resumed_seed_records_a_resumed_session(tmp_path):
+    _run_toy(tmp_path)
+    (_seed_dir(tmp_path) / "metrics.json").unlink()
+    _run_toy(tmp_path)
+    assert json.loads((_seed_dir(tmp_path) / provenance.SESSION_FILE).read_text())["resumed"]
 
 
 def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
