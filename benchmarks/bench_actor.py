@@ -218,8 +218,7 @@ def check_train_parity(training: ActorTraining, k_init: jax.Array, k_loop: jax.A
     losses = []
     for _ in range(2):
         # the step's noise: its key is fold_in(loop key, step); autoencode under that key returns z, µ, logvar
-        out = autoencode(state.params, check.model, jax.random.fold_in(k_loop, state.step), x, actions, mask,
-                         train=True)
+        out = autoencode(check.model, state.params, x, actions, mask, key=jax.random.fold_in(k_loop, state.step), train=True)
         eps = np.array((out["z"] - out["mu"]) * jnp.exp(-0.5 * out["logvar"]))  # a writable copy
         state, terms = step(state, batch, k_loop)
         ours = float(terms["loss"])
@@ -234,7 +233,7 @@ def check_generate_parity(config: ActorConfig, params, model) -> float:
     actions = jax.random.randint(jax.random.key(9), (BATCH,), 0, CLASSES)
     durations = jax.random.randint(jax.random.key(10), (BATCH,), CHECK_MIN_FRAMES, FRAMES + 1)
     mask = jnp.arange(FRAMES)[None] < durations[:, None]
-    ours = np.asarray(decode(params, config, z, actions, mask))
+    ours = np.asarray(decode(config, params, z, actions, mask))
     theirs, _ = peer.generate(model, torch.from_numpy(np.array(actions)), torch.from_numpy(np.array(durations)),
                               FRAMES, z=torch.from_numpy(np.array(z)))
     return float(np.abs(ours - theirs.numpy()).max() / np.abs(ours).max())
@@ -302,7 +301,7 @@ def bench_generate(config: ActorConfig, repeats: int) -> dict:
     key = jax.random.key(2)
 
     def sample(params, key, actions, durations):
-        return generate(params, config, key, actions, durations, FRAMES)
+        return generate(config, params, actions, durations, FRAMES, key=key)
 
     theirs, parity = None, None
     if peer is not None:

@@ -101,7 +101,7 @@ def recomputed_decode(config: ActorConfig):
 
     def run(params, z, actions, mask):
         def step(t, out):
-            full = decode(params, config, z, actions, mask, target=out)
+            full = decode(config, params, z, actions, mask, target=out)
             return out.at[:, t].set(jax.lax.dynamic_index_in_dim(full, t, axis=1, keepdims=False))
 
         return jax.lax.fori_loop(0, mask.shape[1], step,
@@ -126,7 +126,7 @@ def bench(config: ActorConfig, params, frames: int, batch: int, repeats: int) ->
     z = jax.random.normal(k_z, (batch, config.width))
     actions = jax.random.randint(k_a, (batch,), 0, config.num_classes)
     full = length_mask(jnp.full((batch,), frames), frames)
-    cached, compile_cached = compiled(lambda p, z, a, m: decode(p, config, z, a, m), params, z, actions, full)
+    cached, compile_cached = compiled(lambda p, z, a, m: decode(config, p, z, a, m), params, z, actions, full)
     recomputed, compile_recomputed = compiled(recomputed_decode(config), params, z, actions, full)
 
     # parity on a variable-length batch

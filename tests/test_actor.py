@@ -19,28 +19,28 @@ def tiny():
 
 def test_padded_frames_neither_reach_the_latent_nor_leave_the_decoder(tiny):
     params, x, actions, mask = tiny
-    mu, logvar = encode(params, TINY, x, actions, mask)
+    mu, logvar = encode(TINY, params, x, actions, mask)
     changed = x.at[1, 7:].set(100.0)
-    mu2, logvar2 = encode(params, TINY, changed, actions, mask)
+    mu2, logvar2 = encode(TINY, params, changed, actions, mask)
     np.testing.assert_allclose(np.asarray(mu2), np.asarray(mu), atol=1e-5)
     np.testing.assert_allclose(np.asarray(logvar2), np.asarray(logvar), atol=1e-5)
-    out = decode(params, TINY, mu, actions, mask)
+    out = decode(TINY, params, mu, actions, mask)
     assert out.shape == x.shape and float(jnp.abs(out[1, 7:]).max()) == 0.0
 
 
 def test_each_sequence_is_decoded_independently_of_the_rest_of_the_batch(tiny):
     params, _, actions, mask = tiny
     z = jax.random.normal(jax.random.key(2), (2, TINY.width))
-    both = decode(params, TINY, z, actions, mask)
-    alone = decode(params, TINY, z[1:], actions[1:], mask[1:])
+    both = decode(TINY, params, z, actions, mask)
+    alone = decode(TINY, params, z[1:], actions[1:], mask[1:])
     np.testing.assert_allclose(np.asarray(alone[0]), np.asarray(both[1]), atol=1e-5)
 
 
 def test_generation_is_a_function_of_the_key(tiny):
     params, _, actions, _ = tiny
-    a, mask = generate(params, TINY, jax.random.key(3), actions, jnp.array([5, 10]), 10)
-    b, _ = generate(params, TINY, jax.random.key(3), actions, jnp.array([5, 10]), 10)
-    c, _ = generate(params, TINY, jax.random.key(4), actions, jnp.array([5, 10]), 10)
+    a, mask = generate(TINY, params, actions, jnp.array([5, 10]), 10, key=jax.random.key(3))
+    b, _ = generate(TINY, params, actions, jnp.array([5, 10]), 10, key=jax.random.key(3))
+    c, _ = generate(TINY, params, actions, jnp.array([5, 10]), 10, key=jax.random.key(4))
     np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
     assert not np.allclose(np.asarray(a), np.asarray(c))
     np.testing.assert_array_equal(np.asarray(mask.sum(1)), [5, 10])
@@ -49,9 +49,9 @@ def test_generation_is_a_function_of_the_key(tiny):
 def test_dropout_only_in_training(tiny):
     params, x, actions, mask = tiny
     key = jax.random.key(5)
-    eval_a = autoencode(params, TINY, key, x, actions, mask, train=False)["mu"]
-    eval_b = autoencode(params, TINY, key, x, actions, mask, train=False)["mu"]
-    train = autoencode(params, TINY, key, x, actions, mask, train=True)["mu"]
+    eval_a = autoencode(TINY, params, x, actions, mask, key=key, train=False)["mu"]
+    eval_b = autoencode(TINY, params, x, actions, mask, key=key, train=False)["mu"]
+    train = autoencode(TINY, params, x, actions, mask, key=key, train=True)["mu"]
     np.testing.assert_array_equal(np.asarray(eval_a), np.asarray(eval_b))
     assert not np.allclose(np.asarray(train), np.asarray(eval_a))
 
@@ -63,7 +63,7 @@ def test_table2_ablations_build_and_run(tiny, tokens, bias):
                          bias_token=bias)
     params = init_actor(jax.random.key(6), config)
     assert (params.encoder.mu_query is None) != tokens and (params.decoder.action_biases is None) != bias
-    out = autoencode(params, config, jax.random.key(7), x, actions, mask, train=True)
+    out = autoencode(config, params, x, actions, mask, key=jax.random.key(7), train=True)
     assert out["output"].shape == x.shape and np.isfinite(np.asarray(out["output"])).all()
 
 
@@ -83,8 +83,8 @@ def test_paper_configuration_has_the_reference_parameter_count():
 def test_bad_shapes_name_the_argument(tiny):
     params, x, actions, mask = tiny
     with pytest.raises(ValueError, match=r"x: expected \[B, T, 25, 6\]"):
-        encode(params, TINY, x[..., :3], actions, mask)
+        encode(TINY, params, x[..., :3], actions, mask)
     with pytest.raises(ValueError, match=r"mask: expected \[B, T\]"):
-        encode(params, TINY, x, actions, mask[:, :5])
+        encode(TINY, params, x, actions, mask[:, :5])
     with pytest.raises(ValueError, match=r"z: expected \[B, 16\]"):
-        decode(params, TINY, jnp.zeros((2, 8)), actions, mask)
+        decode(TINY, params, jnp.zeros((2, 8)), actions, mask)

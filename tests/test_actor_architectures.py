@@ -46,7 +46,7 @@ def jitted_training_step(architecture: str):
     cfg = config(architecture)
 
     def loss_fn(p, key):
-        out = autoencode(p, cfg, key, X, ACTIONS, MASK, train=True)
+        out = autoencode(cfg, p, X, ACTIONS, MASK, key=key, train=True)
         loss, _ = actor_loss(out["output"], X, MASK, out["mu"], out["logvar"], rep="rot6d",
                              weights=ActorLossWeights(), skeleton=SMPL24)
         return loss, out
@@ -56,12 +56,12 @@ def jitted_training_step(architecture: str):
 
 @functools.cache
 def jitted_decode(architecture: str):
-    return jax.jit(lambda p, z, a, m, target: decode(p, config(architecture), z, a, m, target=target))
+    return jax.jit(lambda p, z, a, m, target: decode(config(architecture), p, z, a, m, target=target))
 
 
 @functools.cache
 def jitted_generate(architecture: str):
-    return jax.jit(lambda p, k, a, d: generate(p, config(architecture), k, a, d, FRAMES))
+    return jax.jit(lambda p, k, a, d: generate(config(architecture), p, a, d, FRAMES, key=k))
 
 
 def parameter_count(tree) -> int:
@@ -94,11 +94,11 @@ def test_generation_has_the_requested_shape_and_mask_and_depends_only_on_the_key
 
 def test_gru_encoder_ignores_padded_frames():
     p, cfg = params("gru"), config("gru")
-    mu, logvar = encode(p, cfg, X, ACTIONS, MASK)
-    mu2, logvar2 = encode(p, cfg, X.at[1, 5:].set(100.0), ACTIONS, MASK)
+    mu, logvar = encode(cfg, p, X, ACTIONS, MASK)
+    mu2, logvar2 = encode(cfg, p, X.at[1, 5:].set(100.0), ACTIONS, MASK)
     np.testing.assert_array_equal(np.asarray(mu2), np.asarray(mu))
     np.testing.assert_array_equal(np.asarray(logvar2), np.asarray(logvar))
-    mu3, _ = encode(p, cfg, X.at[1, 4].set(100.0), ACTIONS, MASK)  # the last real frame does count
+    mu3, _ = encode(cfg, p, X.at[1, 4].set(100.0), ACTIONS, MASK)  # the last real frame does count
     assert not np.allclose(np.asarray(mu3[1]), np.asarray(mu[1]))
 
 
@@ -149,17 +149,17 @@ def test_autoregressive_cached_generation_equals_recomputing_the_causal_pass_for
 def test_autoregressive_frame_by_frame_decoding_takes_no_dropout_key():
     z = jnp.zeros((2, 16))
     with pytest.raises(ValueError, match=r"key: frame-by-frame autoregressive decoding \(no target\) runs in eval"):
-        decode(params("autoregressive"), config("autoregressive"), z, ACTIONS, MASK, jax.random.key(0))
+        decode(config("autoregressive"), params("autoregressive"), z, ACTIONS, MASK, key=jax.random.key(0))
 
 
 def test_autoregressive_dropout_runs_only_with_a_key():
     cfg = config("autoregressive", dropout=0.1)
     p, z = init_actor(jax.random.key(0), cfg), jax.random.normal(jax.random.key(10), (2, 16))
-    run = jax.jit(lambda key: decode(p, cfg, z, ACTIONS, MASK, key, target=X))
+    run = jax.jit(lambda key: decode(cfg, p, z, ACTIONS, MASK, key=key, target=X))
     key = jax.random.key(11)
     np.testing.assert_array_equal(np.asarray(run(key)), np.asarray(run(key)))
-    off = decode(p, cfg, z, ACTIONS, MASK, target=X)
-    np.testing.assert_array_equal(np.asarray(off), np.asarray(decode(p, cfg, z, ACTIONS, MASK, target=X)))
+    off = decode(cfg, p, z, ACTIONS, MASK, target=X)
+    np.testing.assert_array_equal(np.asarray(off), np.asarray(decode(cfg, p, z, ACTIONS, MASK, target=X)))
     assert not np.allclose(np.asarray(run(key)), np.asarray(off))
 
 
@@ -167,11 +167,11 @@ def test_fc_rejects_a_clip_length_other_than_config_frames():
     p, cfg = params("fc"), config("fc")
     short_mask = MASK[:, :6]
     with pytest.raises(ValueError, match=r"T: architecture 'fc' takes exactly ActorConfig.frames = 8 .* got T = 6"):
-        encode(p, cfg, X[:, :6], ACTIONS, short_mask)
+        encode(cfg, p, X[:, :6], ACTIONS, short_mask)
     with pytest.raises(ValueError, match=r"ActorConfig.frames = 8"):
-        decode(p, cfg, jnp.zeros((2, 16)), ACTIONS, short_mask)
+        decode(cfg, p, jnp.zeros((2, 16)), ACTIONS, short_mask)
     with pytest.raises(ValueError, match=r"ActorConfig.frames = 8"):
-        generate(p, cfg, jax.random.key(0), ACTIONS, jnp.array([6, 6]), 6)
+        generate(cfg, p, ACTIONS, jnp.array([6, 6]), 6, key=jax.random.key(0))
 
 
 def test_fc_outputs_never_fall_below_gelu_minimum():
@@ -222,8 +222,8 @@ def test_config_names_the_field_for_unknown_architectures_and_misplaced_switches
 def test_parameters_of_another_architecture_and_stray_targets_are_rejected():
     z = jnp.zeros((2, 16))
     with pytest.raises(TypeError, match=r"params: architecture 'gru' expects GruActorParams, got FcActorParams"):
-        decode(params("fc"), config("gru"), z, ACTIONS, MASK)
+        decode(config("gru"), params("fc"), z, ACTIONS, MASK)
     with pytest.raises(ValueError, match=r"target: teacher forcing exists for architecture 'autoregressive' only"):
-        decode(params("gru"), config("gru"), z, ACTIONS, MASK, target=X)
+        decode(config("gru"), params("gru"), z, ACTIONS, MASK, target=X)
     with pytest.raises(ValueError, match=r"target: expected \[B, T, J, C\]"):
-        decode(params("autoregressive"), config("autoregressive"), z, ACTIONS, MASK, target=X[:, :5])
+        decode(config("autoregressive"), params("autoregressive"), z, ACTIONS, MASK, target=X[:, :5])

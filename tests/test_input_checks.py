@@ -51,7 +51,7 @@ def test_every_actor_generator_rejects_an_action_outside_the_classes(actor_param
     actions, durations = np.array([0, action]), np.array([20, 20])
     match = r"actions: expected class ids in \[0, 12\)"
     with pytest.raises(ValueError, match=match):
-        actor.generate(actor_params, ACTOR, jax.random.key(1), actions, durations, 20)
+        actor.generate(ACTOR, actor_params, actions, durations, 20, key=jax.random.key(1))
     with pytest.raises(ValueError, match=match):
         generate_motions(actor_params, ACTOR, jax.random.key(1), actions, durations, SMPL24)
     with pytest.raises(ValueError, match=match):
@@ -68,7 +68,7 @@ def test_actor_samplers_reject_durations_below_one(actor_params, duration):
 
 def test_actor_generate_rejects_durations_beyond_its_frames(actor_params):
     with pytest.raises(ValueError, match=r"durations: expected frame counts in \[1, 20\], got values from 5 to 30"):
-        actor.generate(actor_params, ACTOR, jax.random.key(1), np.array([0, 1]), np.array([5, 30]), 20)
+        actor.generate(ACTOR, actor_params, np.array([0, 1]), np.array([5, 30]), 20, key=jax.random.key(1))
 
 
 def test_a2m_generators_reject_actions_and_durations_outside_their_range(a2m_params):

@@ -557,7 +557,7 @@ def init_actor(key: jax.Array, config: ActorConfig) -> AnyActorParams:
     return _VARIANTS[config.architecture].init(key, config)
 
 
-def encode(params: AnyActorParams, config: ActorConfig, x: jax.Array, actions: jax.Array, mask: jax.Array,
+def encode(config: ActorConfig, params: AnyActorParams, x: jax.Array, actions: jax.Array, mask: jax.Array, *,
            key: jax.Array | None = None) -> tuple[jax.Array, jax.Array]:
     """``x [B, T, J, C]``, ``actions [B]``, ``mask [B, T]`` -> ``(mu [B, d], logvar [B, d])``. ``"fc"`` needs
     ``T == config.frames``."""
@@ -566,8 +566,8 @@ def encode(params: AnyActorParams, config: ActorConfig, x: jax.Array, actions: j
     return variant.encode(params.encoder, config, x, actions, mask, key)
 
 
-def decode(params: AnyActorParams, config: ActorConfig, z: jax.Array, actions: jax.Array, mask: jax.Array,
-           key: jax.Array | None = None, *, target: jax.Array | None = None) -> jax.Array:
+def decode(config: ActorConfig, params: AnyActorParams, z: jax.Array, actions: jax.Array, mask: jax.Array, *,
+           key: jax.Array | None = None, target: jax.Array | None = None) -> jax.Array:
     """``z [B, d]``, ``actions [B]``, ``mask [B, T]`` -> ``x [B, T, J, C]`` (zero on padded frames).
 
     ``target [B, T, J, C]`` (``"autoregressive"`` only): teacher forcing, frame t is decoded from
@@ -606,8 +606,8 @@ def length_mask(durations: jax.Array, frames: int) -> jax.Array:
     return jnp.arange(frames)[None, :] < jnp.asarray(durations)[:, None]
 
 
-def autoencode(params: AnyActorParams, config: ActorConfig, key: jax.Array, x: jax.Array, actions: jax.Array,
-               mask: jax.Array, *, train: bool) -> dict[str, jax.Array]:
+def autoencode(config: ActorConfig, params: AnyActorParams, x: jax.Array, actions: jax.Array, mask: jax.Array, *,
+               key: jax.Array, train: bool) -> dict[str, jax.Array]:
     """Encode, sample z from the posterior, decode: ``{"output", "mu", "logvar", "z"}``.
 
     ``train``: dropout on (keys split from ``key``); the autoregressive decoder is teacher-forced with ``x``.
@@ -615,15 +615,15 @@ def autoencode(params: AnyActorParams, config: ActorConfig, key: jax.Array, x: j
     deterministic reconstruction), and the autoregressive decoder runs frame by frame, as ACTOR evaluates it.
     """
     k_enc, k_z, k_dec = jax.random.split(key, 3)
-    mu, logvar = encode(params, config, x, actions, mask, k_enc if train else None)
+    mu, logvar = encode(config, params, x, actions, mask, key=k_enc if train else None)
     z = sample_posterior(k_z, mu, logvar)
     target = x if train and config.architecture == "autoregressive" else None
-    output = decode(params, config, z, actions, mask, k_dec if train else None, target=target)
+    output = decode(config, params, z, actions, mask, key=k_dec if train else None, target=target)
     return {"output": output, "mu": mu, "logvar": logvar, "z": z}
 
 
-def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, actions: jax.Array,
-             durations: jax.Array, frames: int) -> tuple[jax.Array, jax.Array]:
+def generate(config: ActorConfig, params: AnyActorParams, actions: jax.Array, durations: jax.Array, frames: int, *,
+             key: jax.Array) -> tuple[jax.Array, jax.Array]:
     """Sample ``z ~ N(0, I)`` and decode: ``actions [B]``, ``durations [B]`` (each <= ``frames``) ->
     ``(x [B, frames, J, C], mask [B, frames])``; frames past a duration are zero and unmasked. The
     autoregressive decoder runs frame by frame; ``"fc"`` needs ``frames == config.frames``."""
@@ -632,7 +632,7 @@ def generate(params: AnyActorParams, config: ActorConfig, key: jax.Array, action
     actions = jnp.asarray(actions)
     z = jax.random.normal(key, (actions.shape[0], config.width))
     mask = length_mask(durations, frames)
-    return decode(params, config, z, actions, mask), mask
+    return decode(config, params, z, actions, mask), mask
 
 
 # ------------------------------------------------------------------------------------------- feature layout

@@ -86,7 +86,7 @@ def decode_motions(params: AnyActorParams, z: jax.Array, actions: jax.Array, mas
     """Decode ``z [B, d]`` with ``actions [B]`` over ``mask [B, T]`` (True on each row's first frames) into
     the batch dict (joints by forward kinematics on ``skeleton``, translation relative to frame 0), padded
     past each length by ``padding``. Jitted; ``skeleton`` is static (hashed by identity)."""
-    x = decode(params, config, z, actions, mask)
+    x = decode(config, params, z, actions, mask)
     motions = motions_from_features(x, mask, config.rep, skeleton)
     return {**_repad(motions, padding), "actions": actions}
 
@@ -96,7 +96,7 @@ def posterior(params: AnyActorParams, rotations: jax.Array, translation: jax.Arr
               *, config: ActorConfig) -> tuple[jax.Array, jax.Array]:
     """The encoder's ``(mu [B, d], logvar [B, d])`` of ``rotations [B, T, J, 3]`` (axis-angle),
     ``translation [B, T, 3]`` with ``actions [B]`` over ``mask [B, T]``; no dropout. Jitted."""
-    return encode(params, config, to_features(rotations, translation, config.rep), actions, mask)
+    return encode(config, params, to_features(rotations, translation, config.rep), actions, mask)
 
 
 def _row_normals(key_data: jax.Array, width: int) -> jax.Array:
@@ -132,8 +132,7 @@ def _interpolate(params: AnyActorParams, joints: jax.Array, translation: jax.Arr
     if hips is not None:
         joints, translation, rotations = canonicalize_motion(joints, translation, rotations, *hips)
     frames = rotations.shape[1]
-    mu, _ = encode(params, config, to_features(rotations, translation, config.rep), actions,
-                   length_mask(lengths, frames))
+    mu, _ = encode(config, params, to_features(rotations, translation, config.rep), actions, length_mask(lengths, frames))
     z = (1.0 - weights)[:, None] * mu[0] + weights[:, None] * mu[1]
     durations = jnp.round((1.0 - weights) * lengths[0] + weights * lengths[1]).astype(jnp.int32)
     return decode_motions(params, z, jnp.full(weights.shape, actions[0]), length_mask(durations, frames),

@@ -74,7 +74,7 @@ def actor_step(training: ActorTraining, skeleton: Skeleton, body: BodyModel | No
         x, actions, mask = actor_inputs(batch, config.rep)
 
         def loss_fn(params):
-            out = autoencode(params, config, key, x, actions, mask, train=True)
+            out = autoencode(config, params, x, actions, mask, key=key, train=True)
             return actor_loss(out["output"], x, mask, out["mu"], out["logvar"], rep=config.rep,
                               weights=training.losses, skeleton=skeleton, body=body)
 
