@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -18,7 +17,7 @@ from jaxmotion.data.pipeline import window_frames
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.models.a2m import A2MVAEConfig, A2MVAEParams, a2m_generate, init_a2m_vae
-from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, save_artefact
+from jaxmotion.pipelines.artefacts import DataFacts, ParamsGenerator
 
 
 @functools.partial(jax.jit, static_argnames=("frames", "config"))
@@ -69,7 +68,7 @@ def a2m_sampler(params: A2MVAEParams, config: A2MVAEConfig, skeleton: Skeleton):
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class A2MGenerator(SamplingGenerator):
+class A2MGenerator(ParamsGenerator):
     """A trained Action2Motion GRU VAE: its model, parameters, the data facts and ``frames`` (the window it
     trained on, the default duration)."""
 
@@ -78,15 +77,7 @@ class A2MGenerator(SamplingGenerator):
     facts: DataFacts
     frames: int = 60
     method = "a2m"
+    init = staticmethod(init_a2m_vae)
 
     def sampler(self):
         return a2m_sampler(self.params, self.model, self.skeleton)
-
-    def save(self, folder: str | Path) -> Path:
-        return save_artefact(folder, self.method, self.model, self.facts, {"params": self.params},
-                             {"frames": self.frames})
-
-    @classmethod
-    def load(cls, artefact: Artefact) -> A2MGenerator:
-        template = jax.eval_shape(lambda k: init_a2m_vae(k, artefact.model), jax.random.key(0))
-        return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

@@ -31,7 +31,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 from collections.abc import Sequence
-from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -60,7 +59,7 @@ from jaxmotion.models.actor import (
     motions_from_features,
     to_features,
 )
-from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, save_artefact
+from jaxmotion.pipelines.artefacts import DataFacts, ParamsGenerator
 
 _FIELDS = ("joints", "rotations", "translation")
 
@@ -417,7 +416,7 @@ def real_plus_generated(real: MotionDataset, generated: MotionDataset) -> Motion
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class ActorGenerator(SamplingGenerator):
+class ActorGenerator(ParamsGenerator):
     """A trained ACTOR: its model, parameters, the data facts, and ``frames`` (the length it trained on, the
     default duration)."""
 
@@ -426,15 +425,7 @@ class ActorGenerator(SamplingGenerator):
     facts: DataFacts
     frames: int = 60
     method = "actor"
+    init = staticmethod(init_actor)
 
     def sampler(self):
         return actor_sampler(self.params, self.model, self.skeleton)
-
-    def save(self, folder: str | Path) -> Path:
-        return save_artefact(folder, self.method, self.model, self.facts, {"params": self.params},
-                             {"frames": self.frames})
-
-    @classmethod
-    def load(cls, artefact: Artefact) -> ActorGenerator:
-        template = jax.eval_shape(lambda k: init_actor(k, artefact.model), jax.random.key(0))
-        return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])

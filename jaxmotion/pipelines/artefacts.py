@@ -97,6 +97,25 @@ class SamplingGenerator:
         return motion_records(motions, self.facts, self.method)
 
 
+class ParamsGenerator(SamplingGenerator):
+    """A generator that is its model config and parameters (ACTOR, Action2Motion): a subclass is a frozen dataclass
+    with the fields ``model``, ``params``, ``facts`` and ``frames``, sets ``method`` and ``init`` (the model's
+    ``init(key, config) -> params``, whose shapes rebuild the saved parameters) and defines ``sampler()``."""
+
+    model: Any
+    params: Any
+    init: Any  # staticmethod(init(key, config) -> params)
+
+    def save(self, folder: str | Path) -> Path:
+        return save_artefact(folder, self.method, self.model, self.facts, {"params": self.params},
+                             {"frames": self.frames})
+
+    @classmethod
+    def load(cls, artefact: Artefact) -> ParamsGenerator:
+        template = jax.eval_shape(lambda k: cls.init(k, artefact.model), jax.random.key(0))
+        return cls(artefact.model, artefact.tree("params", template), artefact.facts, artefact.settings["frames"])
+
+
 class ArtefactError(ValueError):
     """A generator folder that is missing, incomplete or of another architecture."""
 
