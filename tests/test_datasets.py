@@ -79,7 +79,7 @@ def test_an_unreadable_cache_file_is_generated_again_naming_it(small_generator, 
     assert synthetic.load("synth-humanact12", seed=3).name == "synth-humanact12"
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_two_processes_wanting_one_split_generate_it_once(small_generator, tmp_path):
     probe = "from jaxmotion.data import synthetic\nprint(len(synthetic.load('synth-humanact12', seed=4)))"
     path, log = synthetic.cache_path("synth-humanact12", seed=4), tmp_path / "other.log"

@@ -6,6 +6,7 @@ import json
 import jax
 import numpy as np
 import pytest
+from smoke_checks import run_smoke
 from test_actor_use import smooth_dataset
 
 from experiments import actor_augmentation, actor_durations, actor_recognition
@@ -14,17 +15,9 @@ from jaxmotion.pipelines.actor import real_plus_generated
 from jaxmotion.train import Checkpointer
 
 
-@pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    """One cache for the module: the smoke evaluator and smoke data are made once."""
-    return tmp_path_factory.mktemp("cache")
-
-
-@pytest.mark.slow
-def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_reported_ones(tmp_path, monkeypatch,
-                                                                                             cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_recognition.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_reported_ones(tmp_path):
+    result = run_smoke(actor_recognition, tmp_path)
     rows = result["rows"]
     sets = ["Real_orig", "Real_denoised", "Real_interpolated", "Generated", "Real_orig + Generated"]
     jitter = ["jitter (mm/frame²)", "jitter, noisy (mm/frame²)"]
@@ -37,10 +30,9 @@ def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_re
     assert json.loads((folder / "metrics.json").read_text()) == result
 
 
-@pytest.mark.slow
-def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_durations.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp_path):
+    result = run_smoke(actor_durations, tmp_path)
     config = actor_durations.ActorDurationsConfig.smoke()
     rows = result["rows"]
     assert list(rows) == ["Fixed-size", "Variable-size", "Real"]
@@ -56,10 +48,9 @@ def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp
     assert all(json.loads(line)["step"] > config.training.loop.steps for line in log)
 
 
-@pytest.mark.slow
-def test_augmentation_smoke_has_both_rows_at_every_fraction_and_plots_them(tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_augmentation.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_augmentation_smoke_has_both_rows_at_every_fraction_and_plots_them(tmp_path):
+    result = run_smoke(actor_augmentation, tmp_path)
     fractions = actor_augmentation.ActorAugmentationConfig.smoke().fractions
     assert list(result["rows"]) == ["Real", "Real + generated"]
     assert all(list(cells) == [f"{100 * f:g}%" for f in fractions] for cells in result["rows"].values())

@@ -170,7 +170,7 @@ def test_a_real_dataset_without_a_test_split_fails_before_training(tmp_path):
     assert not (cache_folder(spec, tmp_path / "cache", data_root=str(root)) / "checkpoints").exists()
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_a_second_process_wanting_an_evaluator_in_training_waits_and_reads_it(tmp_path):
     spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"), {"window": 30, "loop.steps": 10})
     probe = ("import sys; from jaxmotion.evaluation.recognizers import evaluator_spec, trained_recognizer\n"
@@ -190,7 +190,7 @@ def test_a_second_process_wanting_an_evaluator_in_training_waits_and_reads_it(tm
     assert float(out) == record["held_out"]["accuracy"] and "[evaluator] training" not in log.read_text()
 
 
-@pytest.mark.slow
+@pytest.mark.smoke
 def test_trained_evaluator_is_cached_and_read_back_identically(tmp_path, windows):
     spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"), {"window": 30, "loop.steps": 10})
     first, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
@@ -202,7 +202,7 @@ def test_trained_evaluator_is_cached_and_read_back_identically(tmp_path, windows
     np.testing.assert_array_equal(np.asarray(again(windows)[1]), np.asarray(first(windows)[1]))
 
 
-@pytest.mark.slow
+@pytest.mark.smoke
 def test_recognition_experiment_smoke_writes_its_table(tmp_path, monkeypatch):
     from experiments import recognition
 
