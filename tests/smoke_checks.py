@@ -31,6 +31,13 @@ def assert_generations_vary(rows, row: str, diversity: str, multimodality: str) 
     assert all(np.isfinite(cell["mean"]) for cell in cells.values()), f"{row}: a score is not a number"
 
 
+def assert_real_recognised(rows, accuracy: str, classes: int) -> None:
+    """The Real row's ``accuracy`` (%) is well above chance (twice ``100 / classes``): the smoke evaluator
+    recognises real motions, so the table's scores measure something."""
+    real = rows["Real"][accuracy]["mean"]
+    assert real > 2 * 100 / classes, f"Real {accuracy} {real:.1f}% is near chance ({100 / classes:.1f}%)"
+
+
 def assert_samples_vary(seed_folder: Path, samples: int = 3, frames: int = 16) -> list[str]:
     """Every generator a smoke run wrote under ``seed_folder`` (one per trained row) generates motions of one class
     that differ: the joints' spread over ``samples`` draws is above 0 on average (a constant sampler's is 0). For

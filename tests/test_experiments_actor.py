@@ -13,11 +13,14 @@ from experiments import (
     actor_ablation_rotation,
     actor_uestc,
 )
+from jaxmotion.data.datasets import paper_dataset
+from jaxmotion.evaluation.recognizers import cache_folder
 from jaxmotion.train.actor import ActorTraining
-from smoke_checks import run_smoke
+from smoke_checks import assert_real_recognised, run_smoke
 from smoke_checks import assert_generations_vary as _assert_generations_vary
 
 COLUMNS = ["FID_tr", "FID_test", "Acc. (%)", "Div.", "Multimod."]
+UESTC_CLASSES = paper_dataset("UESTC").num_classes
 
 
 def assert_generations_vary(rows, row):
@@ -39,6 +42,7 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_
     assert list(rows["ACTOR"]) == COLUMNS
     assert rows["ACTOR"]["FID_tr"]["n"] == actor_uestc.ActorUestcConfig.smoke().table.protocol.repetitions
     assert_generations_vary(rows, "ACTOR")
+    assert_real_recognised(rows, "Acc. (%)", UESTC_CLASSES)
     assert (folder / "generated.gif").stat().st_size > 0
     assert json.loads((folder / "metrics.json").read_text()) == result
     assert [c["claim"] for c in result["claims"]] == [str(c) for c in actor_uestc.CLAIMS]
@@ -46,7 +50,9 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_
     assert "Claims of the paper" in (folder / "table.md").read_text()
     record = json.loads((folder / "config.json").read_text())
     assert record["environment"]["jax"] and record["inputs"]["evaluators"][0]["name"] == "synth-uestc/stgcn"
-    assert 0 <= result["run"]["evaluators"][0]["held_out_accuracy"] <= 1
+    evaluator = json.loads((cache_folder(actor_uestc.ActorUestcConfig.smoke().table.evaluator) / "recognizer.json")
+                           .read_text())
+    assert result["run"]["evaluators"][0]["held_out_accuracy"] == evaluator["held_out"]["accuracy"]
 
 
 @pytest.mark.smoke
@@ -83,6 +89,7 @@ def test_appendix_ablation_smoke_has_one_row_per_value_and_the_real_row(tmp_path
     assert all(list(cells) == COLUMNS for cells in result["rows"].values())
     for row in config.rows():
         assert_generations_vary(result["rows"], row)
+    assert_real_recognised(result["rows"], "Acc. (%)", UESTC_CLASSES)
     assert len(result["claims"]) == len(module.CLAIMS)
     # each row trained in its own folder
     workdir = tmp_path / module.__name__.split(".")[-1] / "smoke" / "seed-0"

@@ -7,7 +7,7 @@ import jax
 import numpy as np
 import pytest
 from smoke_checks import run_smoke
-from test_actor_use import smooth_dataset
+from smooth_motions import smooth_dataset
 
 from experiments import actor_augmentation, actor_durations, actor_recognition
 from jaxmotion.evaluation.tables import slug
