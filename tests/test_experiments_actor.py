@@ -15,8 +15,8 @@ from experiments import (
 )
 from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.evaluation.recognizers import cache_folder
-from jaxmotion.train.actor import ActorTraining
-from smoke_checks import assert_real_recognised, run_smoke
+from jaxmotion.pipelines.actor import ActorGenerator
+from smoke_checks import assert_real_recognised, assert_samples_vary, run_smoke
 from smoke_checks import assert_generations_vary as _assert_generations_vary
 
 COLUMNS = ["FID_tr", "FID_test", "Acc. (%)", "Div.", "Multimod."]
@@ -60,10 +60,10 @@ def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, capsys
     # the trained smoke run without its results: the same command evaluates it again, now constant
     trained = tmp_path / "actor_uestc" / "smoke" / "seed-0"
     shutil.copytree(uestc_smoke[0], trained, ignore=shutil.ignore_patterns("metrics.json", "table.md", "*.gif"))
-    real_sampler = ActorTraining.sampler
+    real_sampler = ActorGenerator.sampler
 
-    def constant(self, params, skeleton):
-        sample = real_sampler(self, params, skeleton)
+    def constant(self):
+        sample = real_sampler(self)
 
         def same_motion(key, actions, durations):
             motions = dict(sample(key, actions * 0, durations))
@@ -71,11 +71,15 @@ def test_a_constant_sampler_fails_the_smoke_checks(tmp_path, monkeypatch, capsys
 
         return same_motion
 
-    monkeypatch.setattr(ActorTraining, "sampler", constant)
+    monkeypatch.setattr(ActorGenerator, "sampler", constant)
     rows = actor_uestc.main(["--profile", "smoke", "--out", str(tmp_path)])["rows"]
     assert "resuming from the checkpoint" in capsys.readouterr().err  # evaluated, not trained again
+    # under the same protocol a constant sampler scores no diversity at all, the trained row some
+    assert rows["ACTOR"]["Div."]["mean"] == pytest.approx(0.0, abs=1e-4) < uestc_smoke[1]["rows"]["ACTOR"]["Div."]["mean"]
     with pytest.raises(AssertionError, match="do not vary"):
         assert_generations_vary(rows, "ACTOR")
+    with pytest.raises(AssertionError, match="do not vary"):
+        assert_samples_vary(trained)
 
 
 @pytest.mark.smoke

@@ -1,14 +1,20 @@
 """ACTOR's Tables 1-3 run end to end in their smoke profiles, laid out as the paper lays them out."""
 
 import pytest
-from smoke_checks import assert_generations_vary, run_smoke
+from smoke_checks import assert_generations_vary, assert_real_recognised, run_smoke
 
 from experiments import actor_architecture, actor_losses, actor_sota
+from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.evaluation.tables import reported_row, side_by_side
 
 UESTC = ["UESTC FID_tr", "UESTC FID_test", "UESTC Acc. (%)", "UESTC Div.", "UESTC Multimod."]
 NTU13 = ["NTU-13 FID_tr", "NTU-13 Acc. (%)", "NTU-13 Div.", "NTU-13 Multimod."]
 HUMANACT12 = ["HumanAct12 FID_tr", "HumanAct12 Acc. (%)", "HumanAct12 Div.", "HumanAct12 Multimod."]
+
+
+def assert_real_rows_recognised(rows, labels):
+    for label in labels:
+        assert_real_recognised(rows, f"{label} Acc. (%)", paper_dataset(label).num_classes)
 
 
 @pytest.mark.smoke
@@ -25,6 +31,7 @@ def test_losses_table_has_the_paper_rows_and_no_numbers_for_the_vertex_losses(tm
         for prefix in ("UESTC ", "NTU-13 "):
             assert_generations_vary(rows, name, f"{prefix}Div.", f"{prefix}Multimod.")
     assert all(rows[name] == {} for name in not_run)
+    assert_real_rows_recognised(rows, ("UESTC", "NTU-13"))
     # the paper prints "3M*" / "4M*", not numbers, for the coordinate losses' UESTC FIDs
     assert "UESTC FID_tr" not in rows["L_V (reported)"] and rows["L_V (reported)"]["NTU-13 FID_tr"] == 0.25
 
@@ -38,6 +45,7 @@ def test_architecture_table_has_one_row_per_architecture(tmp_path):
     assert rows["Transformer (reported)"]["UESTC FID_test"] == 23.43
     for name in actor_architecture.ARCHITECTURES:
         assert_generations_vary(rows, name, "UESTC Div.", "UESTC Multimod.")
+    assert_real_rows_recognised(rows, ("UESTC", "NTU-13"))
     # each row trained in its own folder, per dataset
     workdir = tmp_path / "actor_architecture" / "smoke" / "seed-0"
     for dataset in ("uestc", "ntu-13"):
@@ -55,6 +63,7 @@ def test_sota_table_scores_action2motion_and_actor_beside_the_reported_baselines
     assert rows["ACTOR (reported)"]["HumanAct12 FID_tr"] == 0.12
     for name in ("Action2Motion", "ACTOR"):
         assert_generations_vary(rows, name, "HumanAct12 Div.", "HumanAct12 Multimod.")
+    assert_real_rows_recognised(rows, ("NTU-13", "HumanAct12"))
 
 
 def test_loss_rows_never_read_the_translation_and_need_a_body_model_for_the_vertices():

@@ -6,7 +6,7 @@ import json
 import jax
 import numpy as np
 import pytest
-from smoke_checks import run_smoke
+from smoke_checks import assert_samples_vary, run_smoke
 from smooth_motions import smooth_dataset
 
 from experiments import actor_augmentation, actor_durations, actor_recognition
@@ -23,11 +23,15 @@ def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_re
     jitter = ["jitter (mm/frame²)", "jitter, noisy (mm/frame²)"]
     assert list(rows) == [*sets, *jitter, *(f"{name} (reported)" for name in sets)]
     assert all(list(cells) == ["Real_orig test", "Real_denoised test"] for cells in rows.values())
-    assert all(0 <= rows[name][column] <= 100 for name in sets for column in rows[name])
     assert rows[jitter[1]]["Real_orig test"] > rows[jitter[0]]["Real_orig test"] > 0  # the noise adds jitter
     folder = tmp_path / "actor_recognition" / "smoke" / "seed-0"
     assert sorted(p.name for p in (folder / "recognizers").iterdir()) == sorted(map(slug, sets))
     assert json.loads((folder / "metrics.json").read_text()) == result
+    assert assert_samples_vary(folder) == ["actor"]  # the generator of the Generated rows
+    # each accuracy is a share of the test windows
+    windows = actor_recognition.ActorRecognitionConfig.smoke().recognizer.test_count
+    shares = np.array([rows[name][column] * windows / 100 for name in sets for column in rows[name]])
+    np.testing.assert_allclose(shares, shares.round(), atol=1e-3)
 
 
 @pytest.mark.smoke
@@ -46,6 +50,7 @@ def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp
         assert ckpt.latest_step() == config.training.loop.steps + config.finetune_steps
     log = (folder / "variable-size" / "metrics.jsonl").read_text().splitlines()
     assert all(json.loads(line)["step"] > config.training.loop.steps for line in log)
+    assert assert_samples_vary(folder) == ["fixed-size", "variable-size"]
 
 
 @pytest.mark.smoke
@@ -55,6 +60,7 @@ def test_augmentation_smoke_has_both_rows_at_every_fraction_and_plots_them(tmp_p
     assert list(result["rows"]) == ["Real", "Real + generated"]
     assert all(list(cells) == [f"{100 * f:g}%" for f in fractions] for cells in result["rows"].values())
     assert (tmp_path / "actor_augmentation" / "smoke" / "seed-0" / "augmentation.png").read_bytes()[:4] == b"\x89PNG"
+    assert len(assert_samples_vary(tmp_path / "actor_augmentation" / "smoke" / "seed-0")) == len(fractions)
 
 
 def test_fractions_keep_every_class_and_nest():

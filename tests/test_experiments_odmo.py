@@ -2,10 +2,11 @@
 
 import numpy as np
 import pytest
-from smoke_checks import assert_samples_vary, run_smoke
+from smoke_checks import assert_real_recognised, assert_samples_vary, run_smoke
 from smoke_checks import assert_generations_vary as _assert_generations_vary
 
 from experiments import odmo_benchmark
+from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.recipes.odmo import benchmark_variants
 
 HUMANACT12 = ["HumanAct12 Acc", "HumanAct12 FID_tr", "HumanAct12 Diversity", "HumanAct12 MModality",
@@ -33,6 +34,8 @@ def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_p
     assert rows["ODMO (reported)"]["UESTC FID_test"] == 0.17 and rows["ACTOR (reported)"]["HumanAct12 n-APD"] == 74.30
     for name in measured[1:]:
         assert_generations_vary(rows, name, "HumanAct12 ")
+    for label in ("HumanAct12", "UESTC"):
+        assert_real_recognised(rows, f"{label} Acc", paper_dataset(label).num_classes)
     # ODMO_conv samples the model ODMO trained: no folder of its own
     workdir = tmp_path / "odmo_benchmark" / "smoke" / "seed-0" / "humanact12"
     trained = sorted(p.name for p in workdir.iterdir() if (p / "checkpoints").is_dir())
@@ -58,8 +61,9 @@ def test_mocap_table_has_the_paper_rows_on_100_frame_windows(tmp_path):
     assert [name for name in rows if not name.endswith("(reported)")] == [
         "Real", "A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"]
     assert odmo_mocap.OdmoMocapConfig.smoke().mocap.protocol.duration == 100
-    for name in ("A2M-xyz", "ACTOR", "ODMO", "-L_es"):
+    for name in ("A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"):
         assert_generations_vary(rows, name, "MoCap ")
+    assert_real_recognised(rows, "MoCap Acc", paper_dataset("MoCap").num_classes)
 
 
 @pytest.mark.smoke
@@ -102,6 +106,9 @@ def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path):
 
     rows = run_smoke(odmo_sigma, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
+    for name in ("σ²=6.25", "σ²=0.05"):  # Table S1 has no n-APD: the spread within a class is MModality
+        for label in odmo_sigma.LABELS:
+            _assert_generations_vary(rows, name, f"{label} Diversity", f"{label} MModality")
     sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().humanact12_odmo, (6.25, 0.05), "std")
     assert [t.losses.prior_std for t in sweep.values()] == [6.25, 0.05]
     assert odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].losses.prior_std == pytest.approx(0.5)
