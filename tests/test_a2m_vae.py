@@ -8,7 +8,6 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import pytest
-from flax.training.train_state import TrainState
 
 from jaxmotion.models.a2m import (
     A2MOptimizer,
@@ -23,6 +22,7 @@ from jaxmotion.models.a2m import (
 )
 from jaxmotion.nn.core import count_parameters
 from jaxmotion.train.a2m import a2m_step
+from jaxmotion.train.state import TrainState
 
 F, C, B, T = 6, 2, 3, 7
 # One configuration (and one set of parameters) for almost every test: compilation dominates their time.
@@ -183,7 +183,7 @@ def test_short_training_reduces_the_loss(params):
     phase = np.arange(F)[None, None, :] / F
     motions = np.concatenate([np.sin(2 * np.pi * (t + phase)), 0.5 * np.cos(4 * np.pi * (t - phase))])
     poses, actions = jnp.asarray(np.concatenate([motions, motions]), jnp.float32), jnp.asarray([0, 1, 0, 1])
-    state = TrainState.create(apply_fn=None, params=params, tx=optax.adam(1e-2))
+    state = TrainState.create(params, optax.adam(1e-2))
     step = jax.jit(a2m_step(CFG))  # the library's step, on a batch of poses laid out as joints [B, T, J, 3]
     batch = {"joints": poses.reshape(*poses.shape[:2], -1, 3), "actions": actions}
     losses = []
