@@ -41,8 +41,8 @@ def assert_real_recognised(rows, accuracy: str, classes: int) -> None:
 def assert_samples_vary(seed_folder: Path, samples: int = 3) -> list[str]:
     """Every generator a smoke run wrote under ``seed_folder`` (one per trained row) generates motions of one class
     that differ: the joints' spread over ``samples`` draws (of the generator's own length) is above 0 on average (a
-    constant sampler's is exactly 0; a few-step ODMO's about 1e-4 m). For the tables without a diversity column (ActFormer's, ODMO's trajectories and modes).
-    Returns the rows checked."""
+    constant sampler's is exactly 0; a few-step ODMO's about 1e-4 m). For the tables without a diversity column
+    (ActFormer's, ODMO's trajectories and modes). Returns the rows checked."""
     rows = []
     for folder in generator_folders(seed_folder):
         row = str(folder.parent.relative_to(seed_folder))
