@@ -90,7 +90,8 @@ class ActFormerMultiConfig(experiment.ProfileConfig):
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerMultiConfig:
-        persons = (2,) if profile == "cpu" else range(2, 6)
+        # smoke: the five-person set only (NTU-2P's rows already run two persons through the same code)
+        persons = {"cpu": (2,), "smoke": (5,)}.get(profile, range(2, 6))
         ntu2p = DatasetTable(actformer_table("NTU-2P", profile), FrozenMap({
             "Action2Motion": a2m_baseline("NTU-2P", profile, joints=25, persons=2),
             "CSGN": _recipe(csgn_table_training, "synth-ntu2p", profile, NTU2P_CPU_STEPS),

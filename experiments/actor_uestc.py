@@ -57,7 +57,7 @@ class ActorUestcConfig(experiment.ProfileConfig):
     @classmethod
     def for_profile(cls, profile: str) -> ActorUestcConfig:
         return cls(uestc_training(profile), table_dataset("UESTC", profile),
-                   picture_actions=2 if profile == "smoke" else 6)
+                   picture_actions=1 if profile == "smoke" else 6)
 
 
 def run(config: ActorUestcConfig, ctx: experiment.RunContext):

@@ -1,4 +1,10 @@
-"""Test-wide settings: float32 everywhere (the library default) and a fixed hypothesis profile."""
+"""Test-wide settings: float32 everywhere (the library default), a fixed hypothesis profile, one cache for the
+session (smoke data, evaluators, compiled programs) and the markers' meaning.
+
+Markers (``pyproject.toml``): ``smoke`` runs an experiment's smoke profile or trains for more than a few seconds;
+``integration`` starts subprocesses (several processes, a killed and resumed run). ``python -m pytest -m "not smoke
+and not integration"`` is the unit tier.
+"""
 
 import os
 
@@ -33,12 +39,18 @@ import pytest  # noqa: E402
 # written and read back, and the suite runs thousands of them.
 _XLA_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-xla-")
 jax.config.update("jax_compilation_cache_dir", _XLA_CACHE)
+# One jaxmotion cache for the session, empty at its start (a user's ~/.cache is never read): every smoke
+# dataset and every smoke evaluator is made once, by the first test that needs it, and read by the others.
+# Tests of the cache itself point JAXMOTION_CACHE (or cache_dir) at folders of their own.
+_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-cache-")
+os.environ["JAXMOTION_CACHE"] = _CACHE
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
 jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
 
 def pytest_sessionfinish(session, exitstatus):
     shutil.rmtree(_XLA_CACHE, ignore_errors=True)
+    shutil.rmtree(_CACHE, ignore_errors=True)
 
 
 @pytest.fixture(autouse=True, scope="module")

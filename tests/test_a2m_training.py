@@ -34,6 +34,7 @@ def _training(steps):
                        LoopConfig(steps, log_every=2, checkpoint_every=2), batch_size=4, window=10)
 
 
+@pytest.mark.smoke
 def test_resumed_training_equals_an_uninterrupted_run_and_the_sampler_gives_protocol_motions(tmp_path):
     data = _data()
     straight = train_a2m(data, _training(4), jax.random.key(0), str(tmp_path / "straight"), progress=False)

@@ -8,7 +8,6 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import pytest
-from jaxmotion.train.state import TrainState
 
 from jaxmotion.models.a2m import (
     A2MOptimizer,
@@ -23,6 +22,7 @@ from jaxmotion.models.a2m import (
 )
 from jaxmotion.nn.core import count_parameters
 from jaxmotion.train.a2m import a2m_step
+from jaxmotion.train.state import TrainState
 
 F, C, B, T = 6, 2, 3, 7
 # One configuration (and one set of parameters) for almost every test: compilation dominates their time.

@@ -42,6 +42,7 @@ def test_real_windows_become_root_and_unit_limb_vectors_split_per_critic_update(
     np.testing.assert_allclose(roots.mean(axis=(2, 3)), 0.0, atol=1e-5)  # the clip's mean root removed
 
 
+@pytest.mark.smoke
 @pytest.mark.parametrize("loss", ["hinge", "wgan"])
 def test_training_is_deterministic_moves_every_set_and_the_buffers(pairs, loss, tmp_path):
     training = _training(loss=loss)
@@ -76,6 +77,7 @@ def test_mismatched_data_is_refused(pairs):
         train_actformer(pairs, training, jax.random.key(0), None, progress=False)
 
 
+@pytest.mark.smoke
 def test_the_recipe_trains_the_graph_convolution_generator_with_its_batch_statistics(pairs):
     """CSGN in ActFormer's recipe: the same step, the generator's buffers its BatchNorm statistics (moved by
     every training-mode pass), the critic still spectrally normalised; generation reads the running statistics,

@@ -50,7 +50,7 @@ def data_file(tmp_path_factory) -> Path:
     return path
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_killed_actor_training_resumes_bitwise_and_its_loss_falls(tmp_path, data_file):
     data = pickle.loads(data_file.read_bytes())
     actor_mesh_run.run(data, tmp_path / "whole", -1, 20, progress=False)  # uninterrupted, in this process

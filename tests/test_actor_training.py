@@ -15,7 +15,7 @@ TINY = ActorTraining(ActorConfig(num_classes=12, width=16, ff=32, layers=1, head
                      LoopConfig(4, log_every=2, checkpoint_every=2), batch_size=8, window=20)
 
 
-@pytest.mark.slow
+@pytest.mark.smoke
 def test_training_resumes_and_the_sampler_returns_library_motions(tmp_path):
     data = load_dataset("synth-humanact12", count=24)
     params = train_actor(data, TINY, jax.random.key(0), str(tmp_path), progress=False)

@@ -3,7 +3,7 @@
 import jax
 import numpy as np
 import pytest
-from test_actor_use import MODEL, WINDOW, smooth_dataset
+from smooth_motions import MODEL, WINDOW, smooth_dataset
 
 from jaxmotion.data.pipeline import BatchSpec, gather_windows
 from jaxmotion.models.actor import init_actor

@@ -22,6 +22,18 @@ def test_embedded_names_resolve_through_the_cache(tmp_path, monkeypatch):
     assert len(data) == 24
 
 
+def test_smoke_sized_sets_are_cached_apart_from_the_whole_split(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("JAXMOTION_CACHE", str(tmp_path))
+    first = load_dataset("synth-humanact12", count=12)
+    path = synthetic.cache_path("synth-humanact12", count=12)
+    assert path.is_file() and path != synthetic.cache_path("synth-humanact12") and "cached" in capsys.readouterr().err
+    again = load_dataset("synth-humanact12", count=12)
+    assert "cached" not in capsys.readouterr().err  # read back, not generated again
+    np.testing.assert_array_equal(again.joints, first.joints)
+    np.testing.assert_array_equal(again.joints, synthetic.generate("synth-humanact12", count=12).joints)
+    assert len(again) == 12
+
+
 def test_real_names_read_the_files_in_data_root(tmp_path):
     rng = np.random.default_rng(0)
     clips = {"poses": [0.1 * rng.normal(size=(t, 72)) for t in (4, 6)],
@@ -79,7 +91,7 @@ def test_an_unreadable_cache_file_is_generated_again_naming_it(small_generator, 
     assert synthetic.load("synth-humanact12", seed=3).name == "synth-humanact12"
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_two_processes_wanting_one_split_generate_it_once(small_generator, tmp_path):
     probe = "from jaxmotion.data import synthetic\nprint(len(synthetic.load('synth-humanact12', seed=4)))"
     path, log = synthetic.cache_path("synth-humanact12", seed=4), tmp_path / "other.log"

@@ -140,7 +140,7 @@ def test_help_examples_are_real_overrides_of_the_experiment(capsys):
     assert "config fields for --set" in text and " hidden " in text
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_killed_run_resumes_bitwise_equal(tmp_path):
     """SIGKILL a training subprocess between checkpoints, rerun the same command, compare to an unbroken run."""
     args = ["--profile", "cpu", "--set", "train.steps=200", "step_sleep_s=0.01"]

@@ -6,7 +6,8 @@ import json
 import jax
 import numpy as np
 import pytest
-from test_actor_use import smooth_dataset
+from smoke_checks import assert_samples_vary, run_smoke
+from smooth_motions import smooth_dataset
 
 from experiments import actor_augmentation, actor_durations, actor_recognition
 from jaxmotion.evaluation.tables import slug
@@ -14,33 +15,28 @@ from jaxmotion.pipelines.actor import real_plus_generated
 from jaxmotion.train import Checkpointer
 
 
-@pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    """One cache for the module: the smoke evaluator and smoke data are made once."""
-    return tmp_path_factory.mktemp("cache")
-
-
-@pytest.mark.slow
-def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_reported_ones(tmp_path, monkeypatch,
-                                                                                             cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_recognition.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_recognition_smoke_has_a_row_per_training_set_the_jitter_rows_and_the_reported_ones(tmp_path):
+    result = run_smoke(actor_recognition, tmp_path)
     rows = result["rows"]
     sets = ["Real_orig", "Real_denoised", "Real_interpolated", "Generated", "Real_orig + Generated"]
     jitter = ["jitter (mm/frame²)", "jitter, noisy (mm/frame²)"]
     assert list(rows) == [*sets, *jitter, *(f"{name} (reported)" for name in sets)]
     assert all(list(cells) == ["Real_orig test", "Real_denoised test"] for cells in rows.values())
-    assert all(0 <= rows[name][column] <= 100 for name in sets for column in rows[name])
     assert rows[jitter[1]]["Real_orig test"] > rows[jitter[0]]["Real_orig test"] > 0  # the noise adds jitter
     folder = tmp_path / "actor_recognition" / "smoke" / "seed-0"
     assert sorted(p.name for p in (folder / "recognizers").iterdir()) == sorted(map(slug, sets))
     assert json.loads((folder / "metrics.json").read_text()) == result
+    assert assert_samples_vary(folder) == ["actor"]  # the generator of the Generated rows
+    # each accuracy is a share of the test windows
+    windows = actor_recognition.ActorRecognitionConfig.smoke().recognizer.test_count
+    shares = np.array([rows[name][column] * windows / 100 for name in sets for column in rows[name]])
+    np.testing.assert_allclose(shares, shares.round(), atol=1e-3)
 
 
-@pytest.mark.slow
-def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_durations.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp_path):
+    result = run_smoke(actor_durations, tmp_path)
     config = actor_durations.ActorDurationsConfig.smoke()
     rows = result["rows"]
     assert list(rows) == ["Fixed-size", "Variable-size", "Real"]
@@ -54,16 +50,17 @@ def test_durations_smoke_scores_both_models_at_every_duration_and_plots_them(tmp
         assert ckpt.latest_step() == config.training.loop.steps + config.finetune_steps
     log = (folder / "variable-size" / "metrics.jsonl").read_text().splitlines()
     assert all(json.loads(line)["step"] > config.training.loop.steps for line in log)
+    assert assert_samples_vary(folder) == ["fixed-size", "variable-size"]
 
 
-@pytest.mark.slow
-def test_augmentation_smoke_has_both_rows_at_every_fraction_and_plots_them(tmp_path, monkeypatch, cache):
-    monkeypatch.setenv("JAXMOTION_CACHE", str(cache))
-    result = actor_augmentation.main(["--profile", "smoke", "--out", str(tmp_path)])
+@pytest.mark.smoke
+def test_augmentation_smoke_has_both_rows_at_every_fraction_and_plots_them(tmp_path):
+    result = run_smoke(actor_augmentation, tmp_path)
     fractions = actor_augmentation.ActorAugmentationConfig.smoke().fractions
     assert list(result["rows"]) == ["Real", "Real + generated"]
     assert all(list(cells) == [f"{100 * f:g}%" for f in fractions] for cells in result["rows"].values())
     assert (tmp_path / "actor_augmentation" / "smoke" / "seed-0" / "augmentation.png").read_bytes()[:4] == b"\x89PNG"
+    assert len(assert_samples_vary(tmp_path / "actor_augmentation" / "smoke" / "seed-0")) == len(fractions)
 
 
 def test_fractions_keep_every_class_and_nest():

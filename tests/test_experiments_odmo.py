@@ -4,9 +4,11 @@ import dataclasses
 
 import numpy as np
 import pytest
-from test_experiments_actor_tables import _smoke, cache  # noqa: F401 (a module-wide evaluator cache, a smoke run)
+from smoke_checks import assert_real_recognised, assert_samples_vary, run_smoke
+from smoke_checks import assert_generations_vary as _assert_generations_vary
 
 from experiments import odmo_benchmark
+from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.recipes.odmo import benchmark_variants
 
 HUMANACT12 = ["HumanAct12 Acc", "HumanAct12 FID_tr", "HumanAct12 Diversity", "HumanAct12 MModality",
@@ -15,17 +17,14 @@ UESTC = ["UESTC Acc", "UESTC FID_tr", "UESTC FID_test", "UESTC Diversity", "UEST
 
 
 def assert_generations_vary(rows, row, prefix):
-    """What a constant sampler cannot pass, even untrained: its motions differ (diversity above zero) and
-    spread within each class (n-APD above zero)."""
-    cells = rows[row]
-    assert cells[f"{prefix}Diversity"]["mean"] > 0, f"{row}: generations do not vary"
-    assert cells[f"{prefix}n-APD"]["mean"] > 0, f"{row}: generations of one class do not vary"
-    assert np.isfinite(cells[f"{prefix}FID_tr"]["mean"])
+    """ODMO's tables: diversity across samples, n-APD within a class. Four steps leave ODMO's decoder near its mean
+    motion (diversity about a hundredth of the Real row's, yet above a constant sampler's 0)."""
+    _assert_generations_vary(rows, row, f"{prefix}Diversity", f"{prefix}n-APD", share=1e-3)
 
 
-@pytest.mark.slow
-def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_path, monkeypatch, cache):
-    rows = _smoke(odmo_benchmark, tmp_path, monkeypatch, cache)
+@pytest.mark.smoke
+def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_path):
+    rows = run_smoke(odmo_benchmark, tmp_path)["rows"]
     measured = ["Real", "A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"]
     order = []
     for name in odmo_benchmark.ROWS:
@@ -38,6 +37,7 @@ def test_benchmark_table_has_the_paper_rows_and_trains_odmo_conv_with_odmo(tmp_p
     assert rows["ODMO (reported)"]["UESTC FID_test"] == 0.17 and rows["ACTOR (reported)"]["HumanAct12 n-APD"] == 74.30
     for name in measured[1:]:
         assert_generations_vary(rows, name, "HumanAct12 ")
+    assert_real_recognised(rows, "HumanAct12 Acc", paper_dataset("HumanAct12").num_classes)
     # ODMO_conv samples the model ODMO trained: no folder of its own
     workdir = tmp_path / "odmo_benchmark" / "smoke" / "seed-0" / "humanact12"
     trained = sorted(p.name for p in workdir.iterdir() if (p / "checkpoints").is_dir())
@@ -57,39 +57,41 @@ def test_ablation_rows_change_one_thing_each():
         dataclasses.replace(config, datasets=("ntu13",))
 
 
-@pytest.mark.slow
-def test_mocap_table_has_the_paper_rows_on_100_frame_windows(tmp_path, monkeypatch, cache):
+@pytest.mark.smoke
+def test_mocap_table_has_the_paper_rows_on_100_frame_windows(tmp_path):
     from experiments import odmo_mocap
 
-    rows = _smoke(odmo_mocap, tmp_path, monkeypatch, cache)
+    rows = run_smoke(odmo_mocap, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == [
         "Real", "A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"]
     assert odmo_mocap.OdmoMocapConfig.smoke().mocap.protocol.duration == 100
-    for name in ("A2M-xyz", "ACTOR", "ODMO", "-L_es"):
+    for name in ("A2M-xyz", "ACTOR", "ODMO", "ODMO_conv", "-r_e", "-L_es"):
         assert_generations_vary(rows, name, "MoCap ")
+    assert_real_recognised(rows, "MoCap Acc", paper_dataset("MoCap").num_classes)
 
 
-@pytest.mark.slow
-def test_modes_table_scores_both_latent_spaces_against_the_true_modes(tmp_path, monkeypatch, cache):
+@pytest.mark.smoke
+def test_modes_table_scores_both_latent_spaces_against_the_true_modes(tmp_path):
     from experiments import odmo_modes
 
-    rows = _smoke(odmo_modes, tmp_path, monkeypatch, cache)
+    rows = run_smoke(odmo_modes, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == list(odmo_modes.ROWS)
     for label in ("HumanAct12", "UESTC"):
         assert rows["True modes"][f"{label} ARI"]["mean"] == 1.0
         assert rows["Real motions"][f"{label} mode-homogeneity"]["mean"] == pytest.approx(0.0, abs=1e-3)
         for name in ("Modes_ODMO", "Modes_ACTOR"):  # discovered modes split the classes: APD drops
             assert rows[name][f"{label} mode-homogeneity"]["mean"] > 0
-            assert -1.0 <= rows[name][f"{label} ARI"]["mean"] <= 1.0
+            assert rows[name][f"{label} ARI"]["mean"] < 1.0  # a few steps of training do not find the true modes
     figures = tmp_path / "odmo_modes" / "smoke" / "seed-0" / "figures"
     assert (figures / "humanact12-codes.png").is_file() and list(figures.glob("humanact12-mode-*.png"))
+    assert len(assert_samples_vary(tmp_path / "odmo_modes" / "smoke" / "seed-0")) == 4  # ODMO and ACTOR, both tables
 
 
-@pytest.mark.slow
-def test_trajectory_table_measures_the_end_point_error_of_every_row(tmp_path, monkeypatch, cache):
+@pytest.mark.smoke
+def test_trajectory_table_measures_the_end_point_error_of_every_row(tmp_path):
     from experiments import odmo_trajectory
 
-    rows = _smoke(odmo_trajectory, tmp_path, monkeypatch, cache)
+    rows = run_smoke(odmo_trajectory, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == list(odmo_trajectory.ROWS)
     for name in odmo_trajectory.ROWS:
         for label in odmo_trajectory.LABELS:
@@ -97,14 +99,16 @@ def test_trajectory_table_measures_the_end_point_error_of_every_row(tmp_path, mo
             # dist_e is the mean squared error; the end error its root's mean: mean(√e) ≤ √mean(e)
             error_m = cells[f"{label} end error (cm)"]["mean"] / 100
             assert 0 < error_m <= np.sqrt(cells[f"{label} dist_e"]["mean"]) + 1e-6
-    assert (tmp_path / "odmo_trajectory" / "smoke" / "seed-0" / "figures" / "humanact12-end-points.png").is_file()
+    workdir = tmp_path / "odmo_trajectory" / "smoke" / "seed-0"
+    assert (workdir / "figures" / "humanact12-end-points.png").is_file()
+    assert len(assert_samples_vary(workdir)) == len(odmo_trajectory.ROWS) * len(odmo_trajectory.LABELS)
 
 
-@pytest.mark.slow
-def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path, monkeypatch, cache):
+@pytest.mark.smoke
+def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path):
     from experiments import odmo_sigma
 
-    rows = _smoke(odmo_sigma, tmp_path, monkeypatch, cache)
+    rows = run_smoke(odmo_sigma, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
     sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().tables["humanact12"].odmo, (6.25, 0.05), "std")
     assert [r.training.losses.prior_std for r in sweep.values()] == [6.25, 0.05]

@@ -48,7 +48,7 @@ np.savez(sys.argv[2], joints=motions.joints, translation=motions.translation, st
 """
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 @pytest.mark.parametrize("name", list(_rows()))
 def test_a_loaded_generator_generates_bitwise_what_the_trained_one_does(name, tmp_path):
     dataset, row = _rows()[name]
@@ -67,7 +67,7 @@ def test_a_loaded_generator_generates_bitwise_what_the_trained_one_does(name, tm
     np.testing.assert_allclose(firsts[..., 1].reshape(len(ACTIONS), -1).min(axis=1), 0.0, atol=1e-5)
 
 
-@pytest.mark.slow
+@pytest.mark.smoke
 def test_an_exported_bvh_of_a_trained_model_stands_on_the_floor(tmp_path):
     data = load_dataset("synth-humanact12", count=24)
     row = dataclasses.replace(smoke_training(12, steps=2), window=16)

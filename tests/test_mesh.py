@@ -34,7 +34,7 @@ def test_distributed_set_up_names_the_missing_variables():
         initialize_distributed({"JAXMOTION_COORDINATOR": "127.0.0.1:1234"})
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_mesh_helpers_and_protocol_passes_on_four_devices():
     """Sharding and replication, the divisibility error, and map_in_chunks / generate / Recognizer on a mesh
     giving the one-device numbers (tests/mesh_checks.py)."""
@@ -53,7 +53,7 @@ def four_device_runs(tmp_path_factory, data_file):  # noqa: F811
     return out
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_actor_on_four_devices_matches_one_device(four_device_runs):
     one = actor_mesh_run.load_params(four_device_runs / "devices-1")
     four = actor_mesh_run.load_params(four_device_runs / "devices-4")
@@ -62,7 +62,7 @@ def test_actor_on_four_devices_matches_one_device(four_device_runs):
     assert any(not np.array_equal(a, b) for a, b in zip(one, four))  # really another program
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_actor_on_four_devices_reruns_and_resumes_bitwise(tmp_path, data_file, four_device_runs):  # noqa: F811
     """A second 4-device run, SIGKILLed after its step-10 checkpoint and restarted, ends bitwise equal to the
     first (rerun determinism and resume onto the mesh in one)."""
@@ -75,7 +75,7 @@ def test_actor_on_four_devices_reruns_and_resumes_bitwise(tmp_path, data_file, f
     assert_runs_bitwise_equal(four_device_runs / "devices-4", tmp_path / "devices-4")
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_two_processes_of_two_devices_match_one_process_of_four(tmp_path, data_file, four_device_runs):  # noqa: F811
     """Two processes on 127.0.0.1 (gloo CPU collectives), one shared run folder (orbax writes the checkpoints
     of both), against the one-process 4-device run."""

@@ -46,7 +46,7 @@ def _wait_for(path: Path, proc: subprocess.Popen, timeout: float = 120) -> None:
 # --- one process per folder ------------------------------------------------------------------------
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_a_second_run_on_a_folder_in_use_is_refused_naming_the_holder(tmp_path):
     first = _start_toy(tmp_path, *SLOW)
     try:
@@ -61,7 +61,7 @@ def test_a_second_run_on_a_folder_in_use_is_refused_naming_the_holder(tmp_path):
     assert steps == [10, 20, 30, 40]  # each step logged once
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_the_lock_of_a_killed_run_is_taken_over(tmp_path):
     proc = _start_toy(tmp_path, *SLOW)
     _wait_for(_seed_dir(tmp_path) / "checkpoints" / "20" / "commit_success.txt", proc)
@@ -73,7 +73,7 @@ def test_the_lock_of_a_killed_run_is_taken_over(tmp_path):
     assert read_json(_seed_dir(tmp_path) / "metrics.json")["rows"]["mlp"]
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_folder_locks_are_reentrant_in_a_process_and_exclusive_across_processes(tmp_path, capsys):
     with folder_lock(tmp_path, what="test folder"):
         with folder_lock(tmp_path):  # the experiment and its loop may lock one folder
@@ -90,7 +90,7 @@ def test_folder_locks_are_reentrant_in_a_process_and_exclusive_across_processes(
     assert "taking over" not in capsys.readouterr().err
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_a_waiting_lock_waits_for_the_holder(tmp_path):
     probe = ("import time; from jaxmotion.files import folder_lock\n"
              f"with folder_lock({str(tmp_path)!r}):\n"

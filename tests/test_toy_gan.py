@@ -41,7 +41,7 @@ def test_gan_samples_move_to_the_target(whole):
     assert int(state["opt_states"]["critic"][0]["count"]) == 2 * int(state["opt_states"]["generator"][0]["count"])
 
 
-@pytest.mark.slow
+@pytest.mark.integration
 def test_killed_gan_resumes_bitwise_equal(tmp_path, whole):
     env = {**os.environ, "PYTHONPATH": str(REPO)}
     args = [sys.executable, str(SCRIPT), "--out", str(tmp_path), "--step-sleep-s", "0.02"]

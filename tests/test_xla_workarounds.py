@@ -6,6 +6,7 @@ import sys
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 import jaxmotion  # noqa: F401  (importing it applies the workaround)
 
@@ -19,6 +20,7 @@ def test_broadcast_multiply_sum_scale_is_computed_exactly():
     np.testing.assert_allclose(np.asarray(got), expected, atol=1e-4)
 
 
+@pytest.mark.integration
 def test_importing_jaxmotion_first_protects_a_fresh_process():
     code = (
         "import jaxmotion, jax, jax.numpy as jnp, numpy as np\n"

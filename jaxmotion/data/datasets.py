@@ -74,7 +74,7 @@ def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: s
     ``synth-*`` names are the embedded procedural datasets, generated from ``seed`` on first use and
     cached. Other names are the real datasets, read from ``data_root`` in their original formats (as the
     authors' loaders read them); the seed does not apply to them. ``count``: only the first ``count``
-    sequences of the split (embedded data: generated directly, class- and mode-balanced, not cached; for
+    sequences of the split (embedded data: generated class- and mode-balanced and cached on their own; for
     smoke runs).
     """
     if count is not None and count < 1:
@@ -84,9 +84,7 @@ def load_dataset(name: str, split: str = "train", *, seed: int = 0, data_root: s
         if data_root is not None:
             raise ValueError(f"{name} is generated, not read: drop data_root, or load the real "
                              f"{name.removeprefix(EMBEDDED_PREFIX)!r} from it")
-        if count is not None:
-            return synthetic.generate(name, split, seed=seed, count=count)
-        return synthetic.load(name, split, seed=seed)
+        return synthetic.load(name, split, seed=seed, count=count)
     if data_root is None:
         stand_in = EMBEDDED_PREFIX + name
         hint = f"; its embedded stand-in is {stand_in!r}" if stand_in in synthetic.VARIANTS else ""

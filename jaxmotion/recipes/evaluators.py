@@ -43,6 +43,12 @@ def _loop(steps: int, log_every: int = 100, checkpoint_every: int = 500) -> Loop
     return LoopConfig(steps=steps, log_every=log_every, checkpoint_every=checkpoint_every)
 
 
+# smoke: long enough that the evaluators recognise real motions well above chance (measured held-out: HumanAct12's
+# GRU 32% of 12 classes, UESTC's ST-GCN 15% of 40, NTU-13's 42% of 13), so a smoke's Real row says the protocol
+# works; seconds each, trained once per cache
+_SMOKE_LOOP = _loop(150, log_every=50, checkpoint_every=150)
+
+
 def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     """The standard evaluator ``name`` (one of :data:`EVALUATORS`) in ``profile`` (smoke / cpu / paper)."""
     if name not in EVALUATORS:
@@ -59,7 +65,7 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
         net = (RecognizerConfig(architecture="stgcn", inputs="rot6d", channels=(8, 16), strides=(1, 2))
                if architecture == "stgcn" else RecognizerConfig(hidden=16, layers=1, feature_dim=8))
         noise = _STGCN_NOISE if architecture == "stgcn" else 0.0
-        return RecognizerTraining(dataset, net, _loop(20, log_every=10, checkpoint_every=20), batch_size=16,
+        return RecognizerTraining(dataset, net, _SMOKE_LOOP, batch_size=16,
                                   window=window, count=120, test_count=60, input_noise=noise)
     if profile == "cpu":
         if architecture == "stgcn":
@@ -93,7 +99,7 @@ def _actformer_spec(dataset: str, profile: str, topology: str = "own") -> Recogn
     common = dict(window=60 if two else 64, trains_on="held_out", permute_persons=two, input_noise=noise)
     if profile == "smoke":
         net = dataclasses.replace(full, channels=(8, 16), strides=(1, 2))
-        return RecognizerTraining(dataset, net, _loop(20, log_every=10, checkpoint_every=20), batch_size=16,
+        return RecognizerTraining(dataset, net, _SMOKE_LOOP, batch_size=16,
                                   count=120, test_count=60, **common)
     if profile == "cpu":
         net = dataclasses.replace(full, channels=_CPU_STGCN.channels, strides=_CPU_STGCN.strides)

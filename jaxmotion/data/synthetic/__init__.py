@@ -160,26 +160,30 @@ def generate(name: str, split: str = "train", *, seed: int = 0, count: int | Non
     return parts[0] if len(parts) == 1 else concatenate(parts, split="all")
 
 
-def cache_path(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> Path:
-    """Where :func:`load` keeps a generated split."""
-    return cache_root(cache_dir) / f"{name}-{split}-seed{seed}-v{GENERATOR_VERSION}.npz"
+def cache_path(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None,
+               count: int | None = None) -> Path:
+    """Where :func:`load` keeps a generated split (``count``: its first ``count`` sequences)."""
+    part = "" if count is None else f"-n{count}"
+    return cache_root(cache_dir) / f"{name}-{split}-seed{seed}{part}-v{GENERATOR_VERSION}.npz"
 
 
-def cache_source(name: str, split: str = "train", *, seed: int = 0) -> dict[str, Any]:
+def cache_source(name: str, split: str = "train", *, seed: int = 0, count: int | None = None) -> dict[str, Any]:
     """What a cached split is generated from, recorded in its file and checked when it is read."""
-    return {"variant": name, "split": split, "seed": seed, "generator_version": GENERATOR_VERSION, "count": None}
+    return {"variant": name, "split": split, "seed": seed, "generator_version": GENERATOR_VERSION, "count": count}
 
 
-def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None) -> MotionDataset:
-    """A split, generated on first use and cached as ``.npz`` (see :func:`cache_path`).
+def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Path | None = None,
+         count: int | None = None) -> MotionDataset:
+    """A split (``count``: its first ``count`` sequences, as :func:`generate`'s; the smoke runs' small sets),
+    generated on first use and cached as ``.npz`` (see :func:`cache_path`).
 
     The file records what it was generated from (variant, split, seed, generator version, count), checked
     on every load; a file that holds something else or cannot be read is generated again, with a message
     naming it. Processes that want the same split at once generate it once: the others wait, then read it.
     """
     _splits(_variant(name), split)
-    path = cache_path(name, split, seed=seed, cache_dir=cache_dir)
-    source = cache_source(name, split, seed=seed)
+    path = cache_path(name, split, seed=seed, cache_dir=cache_dir, count=count)
+    source = cache_source(name, split, seed=seed, count=count)
     with file_lock(path, what="dataset cache", wait=True):
         if path.exists():
             try:
@@ -189,7 +193,7 @@ def load(name: str, split: str = "train", *, seed: int = 0, cache_dir: str | Pat
             except Exception as error:  # numpy, zipfile and json raise many types for a damaged file
                 reason = f"{path} cannot be read ({type(error).__name__}: {error})"
             print(f"[data] generating {name}/{split} again: {reason}", file=sys.stderr)
-        data = generate(name, split, seed=seed)
+        data = generate(name, split, seed=seed, count=count)
         print(f"[data] cached {name}/{split} in {path}", file=sys.stderr)
         data.save(path, source=source)
         return data
