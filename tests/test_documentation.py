@@ -27,7 +27,7 @@ def _snippets():
     for doc in DOCUMENTS:
         for line, code, slow in python_blocks(doc.read_text()):
             name = f"{doc.relative_to(REPO)}:{line}"
-            yield pytest.param(name, code, id=name, marks=[pytest.mark.slow] if slow else [])
+            yield pytest.param(name, code, id=name, marks=[pytest.mark.smoke] if slow else [])
 
 
 SNIPPETS = list(_snippets())
