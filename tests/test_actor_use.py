@@ -98,8 +98,11 @@ def test_generation_grid_draws_the_samplers_motions(setup, tmp_path):
     assert path.stat().st_size > 0 and path.read_bytes()[:3] == b"GIF"
     np.testing.assert_array_equal(data.actions, [0, 0, 1, 1])
     np.testing.assert_array_equal(data.modes, [0, 1, 0, 1])
-    direct = sampler(jax.random.key(5), np.array([0, 0, 1, 1]), np.full(4, 4))
-    np.testing.assert_array_equal(data.joints, np.asarray(direct["joints"]).reshape(-1, 24, 3))
+    direct = np.asarray(sampler(jax.random.key(5), np.array([0, 0, 1, 1]), np.full(4, 4))["joints"])
+    lift = data.joints.reshape(direct.shape) - direct  # the sampler's motions, each lifted onto the floor as a whole
+    np.testing.assert_allclose(lift, np.broadcast_to(lift[:, :1, :1], lift.shape), atol=1e-6)
+    np.testing.assert_allclose(lift[..., [0, 2]], 0.0)
+    np.testing.assert_allclose(data.joints[data.starts[:-1], :, 1].min(axis=1), 0.0, atol=1e-6)
     with pytest.raises(ValueError, match="actions"):
         generation_grid(sampler, jax.random.key(5), SMPL24, ("a", "b"), 20.0, [2], path)
 
