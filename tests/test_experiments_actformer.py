@@ -41,17 +41,21 @@ def test_single_person_table_has_the_paper_rows_and_each_baseline_where_it_reads
 
 def test_profiles_choose_the_datasets_and_the_authors_recipe():
     cpu, paper = actformer_single.ActFormerSingleConfig.cpu(), actformer_single.ActFormerSingleConfig.paper()
-    assert cpu.datasets == ("NTU-13",) and paper.datasets == actformer_single.LABELS
-    assert paper.babel_actformer.sampling == "sqrt" and paper.ntu13_actformer.sampling == "epoch"
-    assert paper.nturecon_actformer.generator.output == "smpl" and paper.ntu1p_actformer.generator.output == "skeleton"
-    assert paper.ntu13_actformer.generator.joints == 24 and paper.babel_actformer.generator.joints == 25
-    assert paper.ntu1p_actformer.critic_base_channels == 32 and paper.ntu1p_actformer.batch_size == 64
-    assert not paper.ntu13_actor.canonical and not paper.ntu1p_a2m.canonical
-    assert paper.ntu1p_a2m.model.pose_dim == 75 and paper.babel_actor.model.num_classes == 120
-    assert paper.ntu13.protocol.accuracy == "class_mean" and paper.ntu13.protocol.reference == "tiles"
-    assert paper.ntu13.evaluator.dataset == "synth-ntu13" and paper.ntu13.evaluator.recognizer.inputs == "limbs"
+    assert cpu.datasets == ("ntu13",) and paper.datasets == ("ntu13", "nturecon1p", "ntu1p", "babel")
+    rows = {name: table.rows for name, table in paper.tables.items()}
+    assert rows["babel"]["ActFormer"].sampling == "sqrt" and rows["ntu13"]["ActFormer"].sampling == "epoch"
+    assert rows["nturecon1p"]["ActFormer"].generator.output == "smpl"
+    assert rows["ntu1p"]["ActFormer"].generator.output == "skeleton"
+    assert rows["ntu13"]["ActFormer"].generator.joints == 24 and rows["babel"]["ActFormer"].generator.joints == 25
+    assert rows["ntu1p"]["ActFormer"].critic_base_channels == 32 and rows["ntu1p"]["ActFormer"].batch_size == 64
+    assert not rows["ntu13"]["ACTOR"].canonical and not rows["ntu1p"]["Action2Motion"].canonical
+    assert rows["ntu1p"]["Action2Motion"].model.pose_dim == 75 and rows["babel"]["ACTOR"].model.num_classes == 120
+    assert list(rows["ntu1p"]) == ["Action2Motion", "CSGN", "ActFormer"]  # each baseline where it reads the data
+    table = paper.tables["ntu13"].table
+    assert table.protocol.accuracy == "class_mean" and table.protocol.reference == "tiles"
+    assert table.evaluator.dataset == "synth-ntu13" and table.evaluator.recognizer.inputs == "limbs"
     with pytest.raises(ValueError, match="datasets"):
-        actformer_single.ActFormerSingleConfig(**{**cpu.__dict__, "datasets": ("UESTC",)})
+        dataclasses.replace(cpu, datasets=("uestc",))
 
 
 @pytest.mark.smoke
