@@ -91,7 +91,12 @@ def fit_generator(row: Row | Recipe, data: MotionDataset, key: jax.Array, workdi
     to ``<workdir>/generator/`` when ``workdir`` is given."""
     recipe = recipe_for(row)
     generator = recipe.generator(recipe.fit(data, key, workdir, **loop_options), DataFacts.of(data))
-    if workdir is not None and is_primary():
+    return generator if workdir is None else _written(generator, workdir)
+
+
+def _written(generator: Generator, workdir: str | Path) -> Generator:
+    """``generator``, written to ``<workdir>/generator/`` by the primary process (where loaders look for it)."""
+    if is_primary():
         generator.save(Path(workdir) / GENERATOR_FOLDER)
     return generator
 
@@ -114,9 +119,7 @@ def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Arr
         if trained is None:
             trained = recipe.fit(data, key, Path(workdir) / folder, **loop_options)
             fitted.append((what, trained))
-        generators[name] = recipe.generator(trained, facts)
-        if is_primary():
-            generators[name].save(Path(workdir) / folder / GENERATOR_FOLDER)
+        generators[name] = _written(recipe.generator(trained, facts), Path(workdir) / folder)
     return generators
 
 
