@@ -32,25 +32,31 @@ import tempfile  # noqa: E402
 import jax  # noqa: E402
 import pytest  # noqa: E402
 
-# The experiment smokes build the same tiny models and evaluators again and again (each in its own jitted
-# closures, which jax's in-memory cache does not match up); a compilation cache kept for this test session
-# compiles each distinct computation once. Per session, so no test ever runs on a stale executable. Only
-# programs that took a while to compile are written: an eager op compiles faster than its cache entry is
-# written and read back, and the suite runs thousands of them.
-_XLA_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-xla-")
-jax.config.update("jax_compilation_cache_dir", _XLA_CACHE)
-# One jaxmotion cache for the session, empty at its start (a user's ~/.cache is never read): every smoke
-# dataset and every smoke evaluator is made once, by the first test that needs it, and read by the others.
-# Tests of the cache itself point JAXMOTION_CACHE (or cache_dir) at folders of their own.
-_CACHE = tempfile.mkdtemp(prefix="jaxmotion-test-cache-")
-os.environ["JAXMOTION_CACHE"] = _CACHE
-jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
-jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+# One folder for the test session, empty at its start, shared by pytest-xdist's workers and the subprocesses tests
+# start (they inherit the environment of the process that made it, which alone removes it at the end):
+# - a compilation cache: the experiment smokes build the same tiny models and evaluators again and again (each in
+#   its own jitted closures, which jax's in-memory cache does not match up), so each distinct computation compiles
+#   once. Per session, so no test ever runs on a stale executable. Only programs that took a while to compile are
+#   written: an eager op compiles faster than its cache entry is written and read back, and the suite runs
+#   thousands of them.
+# - one jaxmotion cache (a user's ~/.cache is never read): every smoke dataset and every smoke evaluator is made
+#   once, by the first test that needs it, and read by the others (their folder locks let one process make what
+#   another waits for). Tests of the cache itself point JAXMOTION_CACHE (or cache_dir) at folders of their own.
+_OWNER = "JAXMOTION_TEST_SESSION" not in os.environ
+if _OWNER:
+    os.environ["JAXMOTION_TEST_SESSION"] = tempfile.mkdtemp(prefix="jaxmotion-test-")
+_SESSION = pathlib.Path(os.environ["JAXMOTION_TEST_SESSION"])
+os.environ["JAXMOTION_CACHE"] = str(_SESSION / "cache")
+_COMPILATION = {"jax_compilation_cache_dir": str(_SESSION / "xla"), "jax_persistent_cache_min_compile_time_secs": 0.5,
+                "jax_persistent_cache_min_entry_size_bytes": 0}
+for _name, _value in _COMPILATION.items():
+    jax.config.update(_name, _value)
+    os.environ[_name.upper()] = str(_value)
 
 
 def pytest_sessionfinish(session, exitstatus):
-    shutil.rmtree(_XLA_CACHE, ignore_errors=True)
-    shutil.rmtree(_CACHE, ignore_errors=True)
+    if _OWNER:
+        shutil.rmtree(_SESSION, ignore_errors=True)
 
 
 @pytest.fixture(autouse=True, scope="module")

@@ -173,7 +173,8 @@ def test_a_real_dataset_without_a_test_split_fails_before_training(tmp_path):
 @pytest.mark.integration
 def test_a_second_process_wanting_an_evaluator_in_training_waits_and_reads_it(tmp_path):
     spec = replace_paths(evaluator_spec("synth-humanact12/gru", "smoke"), {"window": 30, "loop.steps": 10})
-    probe = ("import sys; from jaxmotion.evaluation.recognizers import evaluator_spec, trained_recognizer\n"
+    probe = ("import sys; from jaxmotion.evaluation.recognizers import trained_recognizer\n"
+             "from jaxmotion.recipes.evaluators import evaluator_spec\n"
              "from jaxmotion.config import replace_paths\n"
              "spec = replace_paths(evaluator_spec('synth-humanact12/gru', 'smoke'), {'window': 30, 'loop.steps': 10})\n"
              f"_, record = trained_recognizer(spec, cache_dir={str(tmp_path)!r})\nprint(record['held_out']['accuracy'])")

@@ -150,12 +150,12 @@ def _rest_joints(offsets):
 def test_cache_round_trip(tmp_path, monkeypatch):
     calls = []
     real = synthetic.generate
-    monkeypatch.setattr(synthetic, "generate", lambda *a, **k: calls.append(1) or real(*a, **k, count=5))
-    first = synthetic.load(NAME, seed=1, cache_dir=tmp_path)
-    second = synthetic.load(NAME, seed=1, cache_dir=tmp_path)
+    monkeypatch.setattr(synthetic, "generate", lambda *a, **k: calls.append(1) or real(*a, **k))
+    first = synthetic.load(NAME, seed=1, cache_dir=tmp_path, count=5)
+    second = synthetic.load(NAME, seed=1, cache_dir=tmp_path, count=5)
     assert len(calls) == 1
-    assert synthetic.cache_path(NAME, seed=1, cache_dir=tmp_path).exists()
-    assert str(synthetic.GENERATOR_VERSION) in synthetic.cache_path(NAME, seed=1, cache_dir=tmp_path).name
+    path = synthetic.cache_path(NAME, seed=1, cache_dir=tmp_path, count=5)
+    assert path.exists() and str(synthetic.GENERATOR_VERSION) in path.name
     for field in ("rotations", "translation", "joints", "starts", "actions", "modes", "subjects"):
         assert np.array_equal(getattr(first, field), getattr(second, field))
     assert second.mode_names == first.mode_names
