@@ -108,8 +108,9 @@ class ActFormerSingleConfig(experiment.ProfileConfig):
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerSingleConfig:
-        # smoke: one skeleton and one SMPL stand-in (BABEL also samples classes by the square root)
-        chosen = {"cpu": ("NTU-13",), "smoke": ("NTU-13", "BABEL")}.get(profile, LABELS)
+        # smoke: the SMPL stand-in that also samples classes by the square root (Action2Motion and the skeleton
+        # representation run in the other ActFormer tables' smokes)
+        chosen = {"cpu": ("NTU-13",), "smoke": ("BABEL",)}.get(profile, LABELS)
         return cls(datasets=tuple(table_key(label) for label in chosen),
                    tables=FrozenMap({table_key(label): dataset_rows(label, profile) for label in LABELS}))
 

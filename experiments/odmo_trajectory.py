@@ -104,7 +104,7 @@ class OdmoTrajectoryConfig(experiment.ProfileConfig):
                 evaluator_spec(EVALUATORS[label], profile), odmo_table_recipe(label, profile),
                 trials=2 if smoke else 40, points=3 if smoke else 10,
                 repetitions={"smoke": 2, "cpu": 5, "paper": 10}[profile])
-        chosen = ("MoCap", "HumanAct12") if profile == "cpu" else LABELS
+        chosen = {"cpu": ("MoCap", "HumanAct12"), "smoke": ("HumanAct12",)}.get(profile, LABELS)
         return cls(datasets=tuple(table_key(label) for label in chosen), tables=FrozenMap(tables))
 
 

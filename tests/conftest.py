@@ -59,18 +59,33 @@ def pytest_sessionfinish(session, exitstatus):
         shutil.rmtree(_SESSION, ignore_errors=True)
 
 
+# A process may hold 65,530 memory mappings (Linux's vm.max_map_count); past this share of them, the executables go.
+_MAPPINGS_KEPT = 30_000
+
+
+def _mappings() -> int:
+    try:
+        with open("/proc/self/maps", "rb") as maps:
+            return sum(1 for _ in maps)
+    except OSError:  # not Linux: no count to read, so release after every module
+        return _MAPPINGS_KEPT + 1
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _release_executables():
-    """Drop every compiled executable after each test module.
+    """Drop every compiled executable after a test module once the process holds many memory mappings.
 
     Each XLA:CPU executable holds a few memory mappings of its own until it is released; the whole suite in one
     process compiles enough of them to pass Linux's limit of 65,530 mappings per process, and then LLVM's next
-    allocation fails inside compilation (CI: exit 139 in `backend_compile_and_load`, after 40 minutes). What a
-    later module needs again comes back from the session's compilation cache.
+    allocation fails inside compilation (CI: exit 139 in `backend_compile_and_load`, after 40 minutes). Releasing
+    them after every module would compile the eager ops (a parameter initialiser per shape, a broadcast) again in
+    each, and those are too quick to compile to be worth the session's compilation cache; what a later module needs
+    again of the larger programs comes back from that cache.
     """
     yield
-    jax.clear_caches()
-    gc.collect()
+    if _mappings() > _MAPPINGS_KEPT:
+        jax.clear_caches()
+        gc.collect()
 
 
 @pytest.fixture(scope="session")
