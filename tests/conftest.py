@@ -47,8 +47,11 @@ if _OWNER:
     os.environ["JAXMOTION_TEST_SESSION"] = tempfile.mkdtemp(prefix="jaxmotion-test-")
 _SESSION = pathlib.Path(os.environ["JAXMOTION_TEST_SESSION"])
 os.environ["JAXMOTION_CACHE"] = str(_SESSION / "cache")
+# The suite compiles thousands of small programs and runs each for a few steps, so XLA's optimisation passes cost
+# more time than they save (unit modules: 30% less wall time without them). What a test checks does not depend on
+# them; experiments and benchmarks run with XLA's defaults. Subprocesses get the same settings as this process.
 _COMPILATION = {"jax_compilation_cache_dir": str(_SESSION / "xla"), "jax_persistent_cache_min_compile_time_secs": 0.5,
-                "jax_persistent_cache_min_entry_size_bytes": 0}
+                "jax_persistent_cache_min_entry_size_bytes": 0, "jax_disable_most_optimizations": True}
 for _name, _value in _COMPILATION.items():
     jax.config.update(_name, _value)
     os.environ[_name.upper()] = str(_value)
@@ -59,33 +62,18 @@ def pytest_sessionfinish(session, exitstatus):
         shutil.rmtree(_SESSION, ignore_errors=True)
 
 
-# A process may hold 65,530 memory mappings (Linux's vm.max_map_count); past this share of them, the executables go.
-_MAPPINGS_KEPT = 30_000
-
-
-def _mappings() -> int:
-    try:
-        with open("/proc/self/maps", "rb") as maps:
-            return sum(1 for _ in maps)
-    except OSError:  # not Linux: no count to read, so release after every module
-        return _MAPPINGS_KEPT + 1
-
-
 @pytest.fixture(autouse=True, scope="module")
 def _release_executables():
-    """Drop every compiled executable after a test module once the process holds many memory mappings.
+    """Drop every compiled executable after each test module.
 
     Each XLA:CPU executable holds a few memory mappings of its own until it is released; the whole suite in one
     process compiles enough of them to pass Linux's limit of 65,530 mappings per process, and then LLVM's next
-    allocation fails inside compilation (CI: exit 139 in `backend_compile_and_load`, after 40 minutes). Releasing
-    them after every module would compile the eager ops (a parameter initialiser per shape, a broadcast) again in
-    each, and those are too quick to compile to be worth the session's compilation cache; what a later module needs
-    again of the larger programs comes back from that cache.
+    allocation fails inside compilation (CI: exit 139 in `backend_compile_and_load`, after 40 minutes). What a
+    later module needs again comes back from the session's compilation cache.
     """
     yield
-    if _mappings() > _MAPPINGS_KEPT:
-        jax.clear_caches()
-        gc.collect()
+    jax.clear_caches()
+    gc.collect()
 
 
 @pytest.fixture(scope="session")
