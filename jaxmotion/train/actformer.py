@@ -164,7 +164,7 @@ def actformer_step(training: ActFormerTraining, graphs: CriticGraphs, parents: t
     def step(state: MultiState, batch: dict[str, jax.Array], key: jax.Array):
         reals, labels = real_batches(training, batch, parents)
         keys = jax.random.split(key, training.n_critic + 1)
-        # the critic's updates as a loop, not unrolled: one copy of its program compiles n_critic times faster
+        # the critic's updates as a loop, not unrolled: XLA compiles one copy of the update instead of n_critic
         (state, g_sn, c_sn), (d_losses, real_scores, fake_scores) = jax.lax.scan(
             critic_update, (state, state.buffers["generator"], state.buffers["critic"]), (reals, labels, keys[:-1]))
         d_loss, real_scores, fake_scores = d_losses[-1], real_scores[-1], fake_scores[-1]
