@@ -58,7 +58,8 @@ ODMO's number of modes (:func:`choose_k`; FACTS §7, code vs paper) from the sil
 * ``rule="paper"`` (supplement, Sec. 2.2): k = 3..11, the first i with ``S_i > 0.95 · S_{i+1}``; 11 when
   none.
 
-:func:`discover_modes_batched` fits all problems with k components in one jitted call (the k-means
+:func:`discover_modes_batched` fits all problems with k components in one call of one compiled kernel,
+the same for every k (``max(ks)`` component slots of which the first k take part, k traced; the k-means
 starts vmapped over problems and restarts; the EM runs share a pool of slots that take the next pending
 run when theirs converges, so the few slow runs do not hold up the many fast ones), for k = 3, 4, ... until
 every problem's rule has broken: like the authors' loop, it never fits the ks past the break, which are
@@ -199,6 +200,11 @@ def _check_features(x: jax.Array, gmm: GaussianMixture) -> jax.Array:
 # --------------------------------------------------------------------------------------------- k-means
 
 
+def _active(slots: int, k=None) -> jax.Array:
+    """``[slots]`` bool: True for the first ``k`` (default all; may be traced) component slots."""
+    return jnp.ones((slots,), bool) if k is None else jnp.arange(slots) < k
+
+
 def _center(x: jax.Array, w: jax.Array) -> tuple[jax.Array, jax.Array]:
     """``x [N, D]`` minus the mean of its valid rows (masked rows 0), and that mean ``[D]``."""
     mean = (w @ x) / w.sum()
@@ -222,12 +228,13 @@ def _weighted_choice(u: jax.Array, weights: jax.Array) -> jax.Array:
     return jnp.minimum(jnp.searchsorted(cumulative, targets, method="compare_all"), weights.shape[0] - 1)
 
 
-def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array) -> jax.Array:
+def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array, k=None) -> jax.Array:
     """Greedy k-means++ seeds of ``x [N, D]`` with sample weights ``w [N]`` -> ``[K, D]``.
 
-    ``u [K, T]`` uniforms: ``u[0, 0]`` picks the first center, ``u[c]`` the T candidates of center c.
+    ``u [K, T]`` uniforms: ``u[0, 0]`` picks the first center, ``u[c]`` the T candidates of center c. Only the
+    first ``k`` (default K; may be traced) slots get centers, the others stay 0.
     """
-    k = u.shape[0]
+    k = u.shape[0] if k is None else k
     first = x[_weighted_choice(u[0, 0], w)]
     closest = jnp.sum((x - first) ** 2, axis=-1)
 
@@ -240,7 +247,7 @@ def _plusplus(u: jax.Array, x: jax.Array, w: jax.Array) -> jax.Array:
         best = jnp.argmin(dist @ w)
         return centers.at[c].set(candidates[best]), dist[best]
 
-    centers = jnp.zeros((k, x.shape[1]), x.dtype).at[0].set(first)
+    centers = jnp.zeros((u.shape[0], x.shape[1]), x.dtype).at[0].set(first)
     return jax.lax.fori_loop(1, k, add_center, (centers, closest))[0]
 
 
@@ -253,20 +260,24 @@ def kmeans_plusplus(key: jax.Array, x: jax.Array, k: int, mask: jax.Array | None
     return _plusplus(u, x, mask.astype(x.dtype))
 
 
-def _assign(x: jax.Array, centers: jax.Array) -> jax.Array:
-    """Nearest center of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is common to a row)."""
+def _assign(x: jax.Array, centers: jax.Array, active: jax.Array) -> jax.Array:
+    """Nearest active center (``active [K]``) of each row of centred ``x [N, D]`` -> ``[N]`` (``|x|²`` is
+    common to a row)."""
     scores = jnp.sum(centers**2, axis=-1) - 2.0 * jnp.matmul(x, centers.T, precision=_HIGHEST)
+    scores = jnp.where(active, scores, jnp.inf)
     return jnp.argmin(scores, axis=-1).astype(jnp.int32)
 
 
-def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array) -> jax.Array:
-    """Lloyd's center update with sklearn's relocation of empty clusters -> new centers ``[K, D]``."""
+def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.Array,
+                    active: jax.Array) -> jax.Array:
+    """Lloyd's center update with sklearn's relocation of empty clusters -> new centers ``[K, D]`` (inactive
+    slots stay 0)."""
     k = centers.shape[0]
     onehot = jax.nn.one_hot(labels, k, dtype=x.dtype) * w[:, None]
     mass, sums = onehot.sum(axis=0), jnp.matmul(onehot.T, x, precision=_HIGHEST)
     # The j-th empty cluster takes the j-th valid sample farthest from its own center, which leaves its
     # cluster (sklearn's _relocate_empty_clusters_dense).
-    empty = mass == 0
+    empty = (mass == 0) & active
     spread = jnp.where(w > 0, jnp.sum((x - centers[labels]) ** 2, axis=-1), -1.0)
     donors = jax.lax.top_k(spread, k)[1][jnp.cumsum(empty) - 1]  # [K], meaningful where empty
     moved = jnp.where(empty, w[donors], 0.0)
@@ -278,20 +289,23 @@ def _update_centers(x: jax.Array, w: jax.Array, centers: jax.Array, labels: jax.
     return jnp.where(mass[:, None] > 0, sums / jnp.where(mass > 0, mass, 1.0)[:, None], sums)
 
 
-def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, max_iter, tol) -> KMeans:
-    """One k-means restart on centred ``x [N, D]``, weights ``w [N]``, seeds from ``u [K, T]``; ``tol`` is
-    absolute (summed squared center shift)."""
+def _lloyd(u: jax.Array, x: jax.Array, w: jax.Array, max_iter, tol, k=None) -> KMeans:
+    """One k-means restart on centred ``x [N, D]``, weights ``w [N]``, seeds from ``u [K, T]``, with the
+    first ``k`` (default K; may be traced) slots as clusters; ``tol`` is absolute (summed squared center
+    shift)."""
+    active = _active(u.shape[0], k)
+
     def step(state):
         centers, labels_old, it, _ = state
-        labels = _assign(x, centers)
-        new = _update_centers(x, w, centers, labels)
+        labels = _assign(x, centers, active)
+        new = _update_centers(x, w, centers, labels, active)
         unchanged = jnp.all((labels == labels_old) | (w == 0))
         return new, labels, it + 1, unchanged | (jnp.sum((new - centers) ** 2) <= tol)
 
-    state = (_plusplus(u, x, w), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0),
+    state = (_plusplus(u, x, w, k), jnp.full((x.shape[0],), -1, jnp.int32), jnp.int32(0),
              jnp.bool_(False))
     centers, _, n_iter, _ = jax.lax.while_loop(lambda s: ~s[3] & (s[2] < max_iter), step, state)
-    labels = _assign(x, centers)
+    labels = _assign(x, centers, active)
     inertia = jnp.sum(w * jnp.sum((x - centers[labels]) ** 2, axis=-1))
     return KMeans(centers, jnp.where(w > 0, labels, -1), inertia, n_iter)
 
@@ -357,16 +371,18 @@ def _weighted_log_prob(weights, means, prec_chol, x) -> jax.Array:
     return _log_gaussians(x, means, prec_chol) + jnp.log(weights)
 
 
-def _m_step(x: jax.Array, resp: jax.Array, reg_covar):
-    """sklearn's M-step from responsibilities ``resp [N, K]`` (0 on masked rows) -> weights, means,
-    covariances (``reg_covar`` on the diagonal)."""
-    nk = resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps
-    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / nk[:, None]
+def _m_step(x: jax.Array, resp: jax.Array, reg_covar, active: jax.Array):
+    """sklearn's M-step from responsibilities ``resp [N, K]`` (0 on masked rows and inactive slots) ->
+    weights, means, covariances (``reg_covar`` on the diagonal); inactive slots (``active [K]`` False) get
+    weight 0, mean 0 and covariance ``reg_covar · I``."""
+    nk = jnp.where(active, resp.sum(axis=0) + 10.0 * jnp.finfo(x.dtype).eps, 0.0)
+    divisor = jnp.where(active, nk, 1.0)
+    means = jnp.matmul(resp.T, x, precision=_HIGHEST) / divisor[:, None]
     # Deviations from each mean, not the second moment about the origin: a covariance made of weighted
     # outer products stays positive semi-definite whatever the float32 rounding.
     diff = x[None] - means[:, None]  # [K, N, D]
     cov = jnp.einsum("knd,kne->kde", resp.T[:, :, None] * diff, diff, precision=_HIGHEST)
-    cov = cov / nk[:, None, None] + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
+    cov = cov / divisor[:, None, None] + reg_covar * jnp.eye(x.shape[-1], dtype=x.dtype)
     return nk / nk.sum(), means, cov
 
 
@@ -390,12 +406,13 @@ def _em_running(s: _EMState, max_iter) -> jax.Array:
     return ~s.converged & (s.n_iter < max_iter)
 
 
-def _em_step(x, w, tol, reg_covar, s: _EMState) -> _EMState:
-    """One E-step (whose mean log-likelihood is the new lower bound) and M-step on ``x [N, D]``."""
+def _em_step(x, w, tol, reg_covar, active, s: _EMState) -> _EMState:
+    """One E-step (whose mean log-likelihood is the new lower bound) and M-step on ``x [N, D]`` over the
+    ``active [K]`` slots."""
     log_prob = _weighted_log_prob(s.weights, s.means, s.prec_chol, x)
     norm = jax.nn.logsumexp(log_prob, axis=-1)
     bound = (w @ norm) / w.sum()
-    weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar)
+    weights, means, cov = _m_step(x, jnp.exp(log_prob - norm[:, None]) * w[:, None], reg_covar, active)
     return _EMState(weights, means, cov, _precision_cholesky(cov), bound, s.n_iter + 1,
                     jnp.abs(bound - s.lower_bound) < tol)
 
@@ -406,16 +423,16 @@ def _em_result(s: _EMState) -> GaussianMixture:
 
 def _em(x, w, weights, means, covariances, max_iter, tol, reg_covar) -> GaussianMixture:
     """EM on ``x [N, D]`` (masked rows 0, weights ``w [N]``) from the given parameters."""
-    step = functools.partial(_em_step, x, w, tol, reg_covar)
+    step = functools.partial(_em_step, x, w, tol, reg_covar, _active(weights.shape[-1]))
     start = _em_start(weights, means, covariances)
     return _em_result(jax.lax.while_loop(lambda s: _em_running(s, max_iter), step, start))
 
 
 def _em_pool(x, w, owner, start: _EMState, max_iter, tol, reg_covar, width: int,
-             count: jax.Array | None = None) -> GaussianMixture:
+             count: jax.Array | None = None, k=None) -> GaussianMixture:
     """EM for B problems ``start`` (leaves ``[B, ...]``) on the data ``x [C, N, D]``, ``w [C, N]`` of
     their problem ``owner [B]``, ``width`` (static) at a time; only the first ``count`` (traced, default
-    B) are fitted, the others keep their start.
+    B) are fitted, the others keep their start; the first ``k`` (traced, default all) slots are components.
 
     A vmapped ``while_loop`` runs every problem as long as the slowest (EM from k-means starts on
     ODMO-sized problems: a median of 2 iterations, a mean of 5, a tail of 30). Here ``width`` slots each
@@ -424,7 +441,8 @@ def _em_pool(x, w, owner, start: _EMState, max_iter, tol, reg_covar, width: int,
     """
     b = owner.shape[0]
     count = b if count is None else count
-    step = jax.vmap(_em_step, in_axes=(0, 0, None, None, 0))
+    step = jax.vmap(_em_step, in_axes=(0, 0, None, None, None, 0))
+    active = _active(start.weights.shape[-1], k)
 
     def body(carry):
         states, slots, pending = carry
@@ -432,7 +450,7 @@ def _em_pool(x, w, owner, start: _EMState, max_iter, tol, reg_covar, width: int,
         index = jnp.minimum(slots, b - 1)
         current = jax.tree.map(lambda a: a[index], states)
         run = live & _em_running(current, max_iter)
-        new = step(x[owner[index]], w[owner[index]], tol, reg_covar, current)
+        new = step(x[owner[index]], w[owner[index]], tol, reg_covar, active, current)
         new = jax.tree.map(lambda n, c: jnp.where(run.reshape((-1,) + (1,) * (n.ndim - 1)), n, c), new, current)
         states = jax.tree.map(lambda a, n: a.at[jnp.where(live, slots, b)].set(n, mode="drop"), states, new)
         free = ~live | ~_em_running(new, max_iter)
@@ -471,20 +489,23 @@ def gmm_em(x: jax.Array, weights: jax.Array, means: jax.Array, covariances: jax.
     return fit._replace(means=fit.means + mean)
 
 
-def _gmm_starts(u, x, w, init, reg_covar, kmeans_max_iter, kmeans_tol):
+def _gmm_starts(u, x, w, init, reg_covar, kmeans_max_iter, kmeans_tol, k=None):
     """The starting parameters of the restarts ``u`` (``[R, K, T]`` k-means++ uniforms for
-    ``init="kmeans"``, ``[R, N, K]`` responsibilities for ``"random"``) on centred ``x [N, D]`` -> weights
-    ``[R, K]``, means ``[R, K, D]``, covariances ``[R, K, D, D]``."""
-    k = u.shape[-1] if init == "random" else u.shape[1]
+    ``init="kmeans"``, ``[R, N, K]`` responsibilities for ``"random"``) on centred ``x [N, D]``, with the
+    first ``k`` (default K; may be traced) slots as components -> weights ``[R, K]``, means ``[R, K, D]``,
+    covariances ``[R, K, D, D]``."""
+    slots = u.shape[-1] if init == "random" else u.shape[1]
+    active = _active(slots, k)
     kmeans_tol = _absolute_tol(x, w, kmeans_tol)
 
     def start(u_r):
         if init == "kmeans":
-            labels = _lloyd(u_r, x, w, kmeans_max_iter, kmeans_tol).labels
-            resp = jax.nn.one_hot(labels, k, dtype=x.dtype)  # -1 (masked) -> a zero row
+            labels = _lloyd(u_r, x, w, kmeans_max_iter, kmeans_tol, k).labels
+            resp = jax.nn.one_hot(labels, slots, dtype=x.dtype)  # -1 (masked) -> a zero row
         else:
+            u_r = jnp.where(active, u_r, 0.0)
             resp = u_r / u_r.sum(axis=1, keepdims=True) * w[:, None]
-        return _m_step(x, resp, reg_covar)
+        return _m_step(x, resp, reg_covar, active)
 
     return jax.vmap(start)(u)
 
@@ -691,70 +712,79 @@ def _resolve_ks(ks: Sequence[int] | None, rule: str) -> tuple[int, ...]:
     return ks
 
 
-def _fit_k(keys, x, mask, live, k, n_init, max_iter, tol, reg_covar, init, pool_share=_POOL_SHARE):
-    """For C problems ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` with keys ``[C]``: the GMM with k
-    (static) components, its labels and their silhouette -> leaves ``[C, ...]``.
+@functools.partial(jax.jit, static_argnames=("k", "slots", "n_init", "n", "init", "dtype"))
+def _draws(keys, k: int, slots: int, n_init: int, n: int, init: str, dtype):
+    """The uniforms of C problems' fits with k components (problem c: one draw from ``fold_in(keys[c], k)``
+    of :func:`_restart_shape`), padded to ``slots`` components -> ``[C, R, slots, 2 + ⌊ln slots⌋]`` or
+    ``[C, R, N, slots]``. k-means++ candidates past k's repeat its last one: a copy never beats the candidate
+    it repeats (the first of equal inertias wins), so the seeds are those of the unpadded draw."""
+    u = jax.vmap(lambda key: jax.random.uniform(jax.random.fold_in(key, k), _restart_shape(init, n_init, n, k),
+                                                dtype))(keys)
+    if init == "kmeans":
+        return jnp.pad(u, ((0, 0), (0, 0), (0, slots - k), (0, _n_trials(slots) - _n_trials(k))), mode="edge")
+    return jnp.pad(u, ((0, 0), (0, 0), (0, 0), (0, slots - k)))
 
-    Problem c's restarts read one uniform draw from ``fold_in(keys[c], k)``; the EM runs of the problems
-    that are ``live [C]`` share one pool of ``⌈C · n_init / pool_share⌉`` slots (:func:`_em_pool`), the
-    others' are skipped (their results are meaningless; their silhouettes NaN).
+
+def _fit_k(u, x, mask, live, k, max_iter, tol, reg_covar, init, pool_share=_POOL_SHARE):
+    """For C problems ``x [C, N, D]`` (masked rows 0), ``mask [C, N]``: the GMM with ``k`` (traced)
+    components in the K component slots of the restarts' uniforms ``u [C, R, ...]`` (:func:`_draws`), its
+    labels and their silhouette -> leaves ``[C, ...]``; the slots past k have weight 0, mean 0 and
+    covariance ``reg_covar · I``. One compiled kernel serves every k.
+
+    The EM runs of the problems that are ``live [C]`` share one pool of ``⌈C · R / pool_share⌉`` slots
+    (:func:`_em_pool`), the others' are skipped (their results are meaningless; their silhouettes NaN).
     """
-    c, n, _ = x.shape
+    c, n_init = u.shape[:2]
+    slots = u.shape[-1] if init == "random" else u.shape[2]
     w = mask.astype(x.dtype)
     x, mean = jax.vmap(_center)(x, w)
-    u = jax.vmap(lambda key: jax.random.uniform(jax.random.fold_in(key, k), _restart_shape(init, n_init, n, k),
-                                                x.dtype))(keys)
-    starts = jax.vmap(lambda u_c, x_c, w_c: _gmm_starts(u_c, x_c, w_c, init, reg_covar, *_KMEANS_INIT))(u, x, w)
+    starts = jax.vmap(lambda u_c, x_c, w_c: _gmm_starts(u_c, x_c, w_c, init, reg_covar, *_KMEANS_INIT, k))(u, x, w)
     runs = c * n_init
     owner = jnp.repeat(jnp.arange(c), n_init)
     order = jnp.argsort(~live[owner], stable=True)  # the live problems' runs first, for the pool to take
     flat = jax.tree.map(lambda a: a.reshape(runs, *a.shape[2:])[order], starts)
     fits = _em_pool(x, w, owner[order], _em_start(*flat), max_iter, tol, reg_covar, -(-runs // pool_share),
-                    live[owner].sum())
+                    live[owner].sum(), k)
     fits = jax.tree.map(lambda a: a[jnp.argsort(order)].reshape(c, n_init, *a.shape[1:]), fits)
     gmm = jax.vmap(_best_restart)(fits)
 
     def score(gmm_c, x_c, mask_c):
         labels = jnp.where(mask_c, jnp.argmax(_mixture_log_prob(gmm_c, x_c), axis=-1).astype(jnp.int32), -1)
-        return labels, _silhouette(x_c, mask_c, labels, k)
+        return labels, _silhouette(x_c, mask_c, labels, slots)
 
     labels, silhouettes = jax.vmap(score)(gmm, x, mask)
-    return gmm._replace(means=gmm.means + mean[:, None]), labels, jnp.where(live, silhouettes, jnp.nan)
+    means = jnp.where(_active(slots, k)[:, None], gmm.means + mean[:, None], 0.0)
+    return gmm._replace(means=means), labels, jnp.where(live, silhouettes, jnp.nan)
 
 
-_STATIC = ("k", "n_init", "init", "pool_share")
+_STATIC = ("init", "pool_share")
 # On a CPU, LLVM at -O1 instead of XLA's default -O2 compiles the kernel in ~60 % of the time and runs it
 # as fast (measured on the kernel that fitted every k at once: 12 s against 19 s of compile CPU time).
 _fit_k_cpu = jax.jit(_fit_k, static_argnames=_STATIC, compiler_options={"xla_backend_optimization_level": 1})
 _fit_k_any = jax.jit(_fit_k, static_argnames=_STATIC)
 
 
-def _slots(gmm: GaussianMixture, k_max: int, reg_covar: float) -> GaussianMixture:
-    """Problems' mixtures ``[C, k, ...]`` padded to ``k_max`` component slots (weight 0, mean 0,
-    covariance ``reg_covar · I``)."""
-    c, k, d = gmm.means.shape
-    pad = k_max - k
-    eye = jnp.broadcast_to(reg_covar * jnp.eye(d, dtype=gmm.means.dtype), (c, pad, d, d))
-    return gmm._replace(weights=jnp.pad(gmm.weights, ((0, 0), (0, pad))),
-                        means=jnp.pad(gmm.means, ((0, 0), (0, pad), (0, 0))),
-                        covariances=jnp.concatenate([gmm.covariances, eye], axis=1))
+def _fit_k_kernel():
+    """:func:`_fit_k` jitted for the default backend."""
+    return _fit_k_cpu if jax.default_backend() == "cpu" else _fit_k_any
 
 
 def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -> ModesBatch:
     """The modes of ``x [C, N, D]`` (masked rows 0), ``mask [C, N]`` (validated) with problem keys ``[C]``.
 
-    Fits k = ks[0], ks[1], ... one kernel call per k, each problem until its rule has broken
-    (:func:`_break_index`), as the authors' loop stops at its break; silhouettes of the ks a problem
-    never fitted are NaN.
+    Fits k = ks[0], ks[1], ... one kernel call per k (one kernel for all, with ``max(ks)`` component slots),
+    each problem until its rule has broken (:func:`_break_index`), as the authors' loop stops at its break;
+    silhouettes of the ks a problem never fitted are NaN.
     """
-    fit_k = _fit_k_cpu if jax.default_backend() == "cpu" else _fit_k_any
+    fit_k = _fit_k_kernel()
     silhouettes = np.full((x.shape[0], len(ks)), np.nan)
     live = np.ones(x.shape[0], bool)
     fits = []
-    with phase("[modes]", len(ks), unit="k") as bar:  # each k compiles its own kernel: seconds each on a CPU
+    with phase("[modes]", len(ks), unit="k") as bar:
         for j, k in enumerate(ks):
-            gmm, labels, scores = fit_k(keys, x, mask, jnp.asarray(live), k, n_init, max_iter, tol, reg_covar, init)
-            fits.append((_slots(gmm, ks[-1], reg_covar), labels))
+            u = _draws(keys, k, ks[-1], n_init, x.shape[1], init, x.dtype)
+            gmm, labels, scores = fit_k(u, x, mask, jnp.asarray(live), jnp.int32(k), max_iter, tol, reg_covar, init)
+            fits.append((gmm, labels))
             silhouettes[live, j] = np.asarray(scores, np.float64)[live]
             bar.advance(note=f"k={k} fitted for {int(live.sum())} of {x.shape[0]} problems")
             live = np.array([_break_index(row[:j + 1], rule) is None for row in silhouettes])
@@ -779,8 +809,8 @@ def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None 
       rule: ``"code"`` or ``"paper"`` (:func:`choose_k`).
       n_init, max_iter, tol, reg_covar, init: the GMM fits (:func:`fit_gmm`; ODMO: k-means init, 5).
 
-    One jitted call per k fits every problem with k components (k-means starts vmapped over problems and
-    restarts, EM runs in a shared pool) and scores each fit's predicted labels; the ks run in increasing
+    One call per k of one compiled kernel fits every problem with k components (k-means starts vmapped over
+    problems and restarts, EM runs in a shared pool) and scores each fit's predicted labels; the ks run in increasing
     order until every problem's rule has broken, as the authors' loop stops at its break, so the chosen k
     is the one a sweep over every k would choose. Silhouettes of the ks a problem never fitted are NaN. Problem c's
     fit with k components reads one uniform draw from ``fold_in(split(key, C)[c], k)``, whichever ks run

@@ -110,6 +110,11 @@ def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path):
 
     rows = run_smoke(odmo_sigma, tmp_path)["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
+    # the smoke runs UESTC (the paper profile all three), scored on the train and the test split
+    assert list(rows["σ²=0.05"]) == [f"UESTC {c}" for c in ("Acc", "FID_tr", "FID_test", "Diversity", "MModality")]
+    for name in ("σ²=6.25", "σ²=0.05"):
+        _assert_generations_vary(rows, name, "UESTC Diversity", "UESTC MModality", share=1e-3)
+    assert odmo_sigma.OdmoSigmaConfig.paper().datasets == ("humanact12", "mocap", "uestc")
     sweep = odmo_sigma.sweep(odmo_sigma.OdmoSigmaConfig.smoke().tables["humanact12"].odmo, (6.25, 0.05), "std")
     assert [r.training.losses.prior_std for r in sweep.values()] == [6.25, 0.05]
     assert (odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].training.losses.prior_std

@@ -175,6 +175,14 @@ def test_discover_batched_equals_per_problem_calls():
     assert (np.asarray(batch.labels[0, -PAD:]) == -1).all()
 
 
+def _every_k(key, x, ks, slots=None):
+    """Every problem of ``x [C, N, D]`` fitted with every k of ``ks`` (no break): the discovery kernel with all
+    problems live and ``slots`` (default ``max(ks)``) component slots -> one (gmm, labels, silhouettes) per k."""
+    keys, live, mask = jax.random.split(key, len(x)), jnp.ones(len(x), bool), jnp.ones(x.shape[:2], bool)
+    return [mx._fit_k_kernel()(mx._draws(keys, k, slots or ks[-1], 5, x.shape[1], "kmeans", jnp.float32),
+                               jnp.asarray(x), mask, live, jnp.int32(k), 100, 1e-3, 1e-6, "kmeans") for k in ks]
+
+
 def test_discovery_stops_at_every_break_and_chooses_as_the_full_sweep():
     # Three blobs break at k = 4, five at k = 6: each problem's fits stop there, and the sweep after k = 6.
     rng = np.random.default_rng(5)
@@ -183,19 +191,33 @@ def test_discovery_stops_at_every_break_and_chooses_as_the_full_sweep():
     x = np.stack([blobs(8)[0], (five + rng.normal(size=(N, D))).astype(np.float32)])
     key, ks = jax.random.key(4), range(3, 9)
     batch = mx.discover_modes_batched(key, x, ks=ks)
-    # Each k alone reads the same draws (fold_in of the problem's key by k), so it gives the full sweep.
-    alone = [mx.discover_modes_batched(key, x, ks=[k]) for k in ks]
-    full = np.stack([one.silhouettes[:, 0] for one in alone], axis=1)
+    # Each k's fit reads the same draws (fold_in of the problem's key by k) whichever ks ran before it.
+    alone = _every_k(key, x, ks)
+    full = np.stack([silhouettes for _, _, silhouettes in alone], axis=1)
     assert list(batch.k) == [3, 5]
     assert [mx.choose_k(row, list(ks)) for row in full] == [3, 5]
     for c, fitted in enumerate([2, 4]):  # k = 3..4 and 3..6
         np.testing.assert_allclose(batch.silhouettes[c, :fitted], full[c, :fitted], rtol=1e-6)
         assert np.isnan(batch.silhouettes[c, fitted:]).all()
     for c, k in enumerate(batch.k):
-        chosen = alone[k - 3]
-        np.testing.assert_array_equal(batch.labels[c], chosen.labels[c])
-        np.testing.assert_allclose(batch.gmm.means[c, :k], chosen.gmm.means[c], rtol=1e-6)
+        gmm, labels, _ = alone[k - 3]
+        np.testing.assert_array_equal(batch.labels[c], labels[c])
+        np.testing.assert_allclose(batch.gmm.means[c], gmm.means[c], rtol=1e-6)
         assert (np.asarray(batch.gmm.weights[c, k:]) == 0).all() and batch.gmm.means.shape[1] == 8
+
+
+def test_component_slots_past_k_change_nothing():
+    # One kernel serves every k: k = 3 of 8 slots (8 has one k-means++ candidate more than 3) fits as 3 of 3.
+    x = np.stack([blobs(8)[0], overlapping()])
+    key, k = jax.random.key(2), 3
+    (narrow, narrow_labels, narrow_s), = _every_k(key, x, [k])
+    (wide, wide_labels, wide_s), = _every_k(key, x, [k], slots=8)
+    np.testing.assert_array_equal(wide_labels, narrow_labels)
+    np.testing.assert_allclose(wide_s, narrow_s, rtol=1e-6)
+    for a, b in zip(narrow[:3], wide[:3]):
+        np.testing.assert_allclose(b[:, :k], a, rtol=1e-5, atol=1e-6)
+    assert (np.asarray(wide.weights[:, k:]) == 0).all() and (np.asarray(wide.means[:, k:]) == 0).all()
+    np.testing.assert_array_equal(wide.covariances[:, k:], np.broadcast_to(np.float32(1e-6) * np.eye(D, dtype=np.float32), (2, 5, D, D)))
 
 
 def test_silhouette_is_invariant_to_sample_order():
