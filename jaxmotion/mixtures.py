@@ -790,6 +790,9 @@ def _discover(keys, x, mask, ks, rule, n_init, max_iter, tol, reg_covar, init) -
             live = np.array([_break_index(row[:j + 1], rule) is None for row in silhouettes])
             if not live.any():
                 break
+    if (blank := np.flatnonzero(np.isnan(silhouettes).all(axis=1))).size:
+        raise ValueError(f"x: problem {blank[0]} has no silhouette at any k in {list(ks)} (its valid samples sit on "
+                         "fewer than 2 distinct points, or in one cluster at every k): no number of modes to choose")
     index = np.array([ks.index(choose_k(row, ks, rule=rule)) for row in silhouettes])
     problems = np.arange(x.shape[0])
     gmm, labels = jax.tree.map(lambda *a: jnp.stack(a)[index, problems], *fits)
@@ -815,7 +818,8 @@ def discover_modes_batched(key: jax.Array, x: jax.Array, mask: jax.Array | None 
     is the one a sweep over every k would choose. Silhouettes of the ks a problem never fitted are NaN. Problem c's
     fit with k components reads one uniform draw from ``fold_in(split(key, C)[c], k)``, whichever ks run
     before it, so it differs in its draws (not in distribution) from a :func:`fit_gmm` call. Raises
-    ValueError when a problem has fewer valid samples than the largest k. Returns a :class:`ModesBatch`.
+    ValueError when a problem has fewer valid samples than the largest k, or no silhouette at any k (identical
+    samples: scikit-learn's silhouette raises there too). Returns a :class:`ModesBatch`.
     """
     ks = _resolve_ks(ks, rule)
     _check_init(init)

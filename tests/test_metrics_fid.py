@@ -142,3 +142,15 @@ def test_aggregate_persons_is_channelwise_max_and_order_free():
 def test_fid_rejects_bad_shapes_naming_the_argument(a, b, match):
     with pytest.raises(ValueError, match=match):
         fid(np.zeros(a, np.float32), np.zeros(b, np.float32))
+
+
+@pytest.mark.parametrize("side", ["a", "b"])
+@pytest.mark.parametrize("bad", [-1, 3])
+def test_a_label_outside_the_classes_makes_every_class_fid_nan(side, bad):
+    a, b = feature_sets(5, n=60, m=60, d=4)
+    la, lb = np.arange(60) % 3, np.arange(60) % 3
+    (la if side == "a" else lb)[7] = bad  # dropped or counted as another class, it would move a plausible number
+    assert np.isnan(np.asarray(fid_per_class(a, la, b, lb, num_classes=3))).all()
+    assert np.isnan(float(fid_class_mean(a, la, b, lb, 3)))
+    with pytest.raises(ValueError, match="labels_a: expected integer labels"):
+        fid_per_class(a, la.astype(np.float32), b, lb, num_classes=3)

@@ -104,7 +104,22 @@ def test_same_key_same_value_and_keys_matter():
 
 
 def test_bad_shapes_name_the_argument():
-    with pytest.raises(ValueError, match=r"labels: expected \[N\]"):
+    with pytest.raises(ValueError, match=r"labels: expected integer \[N\]"):
         multimodality(jax.random.key(0), jnp.zeros((5, 3)), jnp.zeros(4, jnp.int32), 2)
     with pytest.raises(ValueError, match=r"features: expected \[N, D\]"):
         diversity(jax.random.key(0), jnp.zeros((5,)))
+
+
+@pytest.mark.parametrize("bad", [-1, 3])
+def test_a_label_outside_the_classes_makes_multimodality_nan(bad):
+    features = jax.random.normal(jax.random.key(3), (12, 4))
+    labels = jnp.arange(12) % 3
+    assert np.isfinite(float(multimodality(jax.random.key(0), features, labels, 3)))
+    assert np.isnan(float(multimodality(jax.random.key(0), features, labels.at[5].set(bad), 3)))
+
+
+def test_diversity_of_one_sample_is_refused_not_zero():
+    with pytest.raises(ValueError, match="at least 2 samples, got N = 1"):
+        diversity(jax.random.key(0), jnp.ones((1, 3)))
+    with pytest.raises(ValueError, match=r"labels: expected integer \[N\]"):
+        multimodality(jax.random.key(0), jnp.zeros((4, 3)), jnp.zeros(4), 2)

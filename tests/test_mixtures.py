@@ -367,3 +367,10 @@ def test_bad_inputs_raise_naming_the_argument():
         mx.discover_modes_batched(jax.random.key(0), np.zeros((2, 6, 2)), mask, ks=range(3, 6))
     with pytest.raises(ValueError, match="mask: 4 valid samples, fewer than k = 9"):
         mx.discover_modes(jax.random.key(0), np.zeros((12, 2)), mask=np.arange(12) < 4)
+
+
+def test_identical_samples_have_no_modes_to_choose():
+    # Every k puts all samples in one cluster: no silhouette anywhere, so no k is chosen (it used to be the last k).
+    x = np.stack([blobs(0)[0], np.ones((N, D), np.float32)])
+    with pytest.raises(ValueError, match="problem 1 has no silhouette at any k"):
+        mx.discover_modes_batched(jax.random.key(0), x, ks=range(3, 5))

@@ -91,20 +91,24 @@ def _per_class(features_a, labels_a, features_b, labels_b, num_classes):
 
 
 def _check_labels(name: str, labels: jax.Array, features: jax.Array) -> None:
-    if labels.shape != features.shape[:1]:
-        raise ValueError(f"{name}: expected labels [N] = ({features.shape[0]},), got {tuple(labels.shape)}")
+    if labels.shape != features.shape[:1] or not jnp.issubdtype(labels.dtype, jnp.integer):
+        raise ValueError(f"{name}: expected integer labels [N] = ({features.shape[0]},), got {labels.dtype} "
+                         f"{tuple(labels.shape)}")
 
 
 @jax.jit(static_argnames="num_classes")
 def fid_per_class(features_a: jax.Array, labels_a: jax.Array, features_b: jax.Array, labels_b: jax.Array,
                   num_classes: int) -> jax.Array:
     """FID of each class, ``[C]``: class c's rows of ``features_a [N, D]`` against those of ``features_b
-    [M, D]`` (labels ``[N]``, ``[M]``). A class with fewer than two samples on either side is NaN."""
+    [M, D]`` (labels ``[N]``, ``[M]``). A class with fewer than two samples on either side is NaN; a label
+    outside ``[0, num_classes)`` on either side makes every class NaN (a jittable function cannot raise on
+    values, and leaving the sample out would change the metric)."""
     _check_features("features_a", features_a)
     _check_features("features_b", features_b)
     _check_labels("labels_a", labels_a, features_a)
     _check_labels("labels_b", labels_b, features_b)
-    return _per_class(features_a, labels_a, features_b, labels_b, num_classes)
+    in_range = jnp.all((labels_a >= 0) & (labels_a < num_classes)) & jnp.all((labels_b >= 0) & (labels_b < num_classes))
+    return jnp.where(in_range, _per_class(features_a, labels_a, features_b, labels_b, num_classes), jnp.nan)
 
 
 def fid_class_mean(features_a: jax.Array, labels_a: jax.Array, features_b: jax.Array, labels_b: jax.Array,
