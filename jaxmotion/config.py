@@ -28,6 +28,8 @@ Anything else is rejected when the config is first converted, so a config that c
 * **Seeds.** An ``int`` field named ``seed`` or ending in ``_seed``, or declared as :data:`Seed`, takes 0 to
   :data:`MAX_SEED` only: ``jax.random.key`` would wrap a larger one modulo 2**32 and two seeds would make one
   run.
+* **Integers.** Any other ``int`` field takes -2**31 to 2**31 - 1 (:data:`MAX_INT`): jax computes in 32 bits
+  on a default install, so a larger step count, size or index would overflow where it is used.
 * **Errors.** Every bad value raises :class:`ConfigError` naming the dotted path, the expected type and the
   value given.
 """
@@ -45,6 +47,7 @@ from typing import Annotated, Any, Literal, Union
 
 PROFILES = ("smoke", "cpu", "paper")
 MAX_SEED = 2**32 - 1  # jax.random.key takes a 32-bit seed on a default (x32) install
+MAX_INT = 2**31 - 1  # jax's int32 on a default (x32) install: steps, sizes and indices are computed in it
 #: A PRNG seed: an integer from 0 to :data:`MAX_SEED`. Int fields named ``seed`` or ``*_seed`` are seeds too.
 Seed = Annotated[int, "seed"]
 
@@ -412,8 +415,8 @@ def _check(value: Any, tp: Any, where: str, *, encode: bool) -> Any:
             raise _mismatch(where, "true or false", value)
         return value
     if tp is int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise _mismatch(where, "an integer", value)
+        if isinstance(value, bool) or not isinstance(value, int) or not -MAX_INT - 1 <= value <= MAX_INT:
+            raise _mismatch(where, f"an integer from -2**31 to 2**31 - 1 ({MAX_INT})", value)
         return value
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):

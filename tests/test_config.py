@@ -277,7 +277,7 @@ def test_replace_paths_edits_through_mappings_and_checks_the_value():
     cfg = cfglib.replace_paths(_table(), {"rows.ntu13.csgn.lr": 1, "evaluator": Evaluator("x"), "weights.b": 3})
     assert cfg.rows["ntu13"]["csgn"].lr == 1.0 and isinstance(cfg.rows["ntu13"]["csgn"].lr, float)
     assert cfg.evaluator == Evaluator("x") and cfg.weights == {"b": 3.0, "a": 1.0}
-    with pytest.raises(cfglib.ConfigError, match=r"rows.ntu13.csgn.loop.steps: expected an integer, got 'x'"):
+    with pytest.raises(cfglib.ConfigError, match=r"rows.ntu13.csgn.loop.steps: expected an integer from -2\*\*31 to 2\*\*31 - 1 \(2147483647\), got 'x'"):
         cfglib.replace_paths(cfg, {"rows.ntu13.csgn.loop.steps": "x"})
     with pytest.raises(cfglib.ConfigError, match=r"^config: weights: expected non-negative weights, got \{'b': -1.0, "
                                                  r"'a': 1.0\} \(setting 'weights.b'\)$"):
@@ -304,6 +304,10 @@ def test_diff_names_the_paths_inside_mappings_and_groups():
     ("evaluator.dataset=null", "evaluator.dataset", "a string", "None"),
     ("evaluator.loop.seed=4294967296", "evaluator.loop.seed", "a seed from 0 to 4294967295 (2**32 - 1)", "4294967296"),
     ("evaluator.loop.seed=-1", "evaluator.loop.seed", "a seed", "-1"),
+    # jax counts in 32 bits: a step count past 2**31 - 1 would overflow where it is used
+    ("rows.ntu13.csgn.loop.steps=" + str(10**30), "rows.ntu13.csgn.loop.steps",
+     "an integer from -2**31 to 2**31 - 1 (2147483647)", str(10**30)),
+    ("rows.ntu13.csgn.loop.steps=2147483648", "rows.ntu13.csgn.loop.steps", "an integer from -2**31", "2147483648"),
     ("draw=4294967296", "draw", "a seed from 0 to 4294967295 (2**32 - 1)", "4294967296"),
     ("weights.a=[1,", "weights.a", "a number", "'[1,' ('[1,' is not valid JSON"),
     ("weights=[1]", "'weights' is a group of fields; set one of: weights.b, weights.a", "JSON mapping (dict[str, float])",
@@ -337,7 +341,7 @@ def test_bad_from_dict_values_name_the_path_the_expected_type_and_the_value(data
 
 def test_from_dict_of_nested_mappings_names_the_deep_path():
     bad = {"rows": {"x": {"y": {"loop": {"steps": 1.5}}}}}
-    with pytest.raises(cfglib.ConfigError, match=r"^rows.x.y.loop.steps: expected an integer, got 1.5$"):
+    with pytest.raises(cfglib.ConfigError, match=r"^rows.x.y.loop.steps: expected an integer from -2\*\*31 to 2\*\*31 - 1 \(2147483647\), got 1.5$"):
         cfglib.from_dict(Table, bad)
     with pytest.raises(cfglib.ConfigError, match=r"^config: expected a mapping of Table's fields, got \[\]$"):
         cfglib.from_dict(Table, [])

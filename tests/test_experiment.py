@@ -116,8 +116,11 @@ def test_print_config_accepts_every_run_flag_and_checks_only_what_the_command_sa
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--set", "train.steps=[1]"], "toy: train.steps: expected an integer, got [1]"),
-    (["--set", 'train={"steps": "x"}'], "toy: train.steps: expected an integer, got 'x'"),
+    (["--set", "train.steps=[1]"], "toy: train.steps: expected an integer from -2**31 to 2**31 - 1 (2147483647), got [1]"),
+    (["--set", 'train={"steps": "x"}'], "toy: train.steps: expected an integer from -2**31 to 2**31 - 1 (2147483647), "
+                                        "got 'x'"),
+    (["--set", f"train.steps={10**30}"], f"toy: train.steps: expected an integer from -2**31 to 2**31 - 1 (2147483647), "
+                                         f"got {10**30}"),
     (["--set", "train=3"], "toy: 'train' is a group of fields; set one of: train.steps, "),
     (["--set", "train.steps.x=3"], "toy: unknown config field 'train.steps.x': 'train.steps' is a single value (int)"),
     (["--set", "train.log_every=7"], "toy: train: LoopConfig.checkpoint_every (20) must be a non-negative multiple"),
