@@ -42,6 +42,7 @@ import numpy as np
 from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
+from jaxmotion.evaluation.protocol import check_evaluator
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
 from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.data.datasets import paper_dataset
@@ -127,6 +128,7 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
     """Table 4's rows on one dataset, ``{row: {column: values over repetitions}}``."""
     data = real_sets(table.data, ctx.data_root)["train"]
     recognizer, _ = trained_recognizer(table.evaluator, data_root=ctx.data_root)  # before any row trains
+    check_evaluator(recognizer, {"train": data})  # an evaluator of other classes would score every row near 0
     rows = {}
     key = ctx.key(f"train {table.label}")
     for name, recipe in ablations(table.odmo).items():

@@ -119,3 +119,20 @@ def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path):
     assert [r.training.losses.prior_std for r in sweep.values()] == [6.25, 0.05]
     assert (odmo_sigma.sweep(sweep["σ²=0.05"], (0.25,), "variance")["σ²=0.25"].training.losses.prior_std
             == pytest.approx(0.5))
+
+
+def test_trajectory_table_refuses_an_evaluator_of_other_classes(tmp_path, monkeypatch):
+    # It scores accuracy itself (not through the protocol): an evaluator of UESTC's 40 classes on HumanAct12's 12
+    # would put every row near 0 % without a word.
+    from types import SimpleNamespace
+
+    from experiments import odmo_trajectory
+
+    def uestc_recognizer(spec, data_root=None):
+        assert spec.dataset == "synth-uestc"
+        return SimpleNamespace(num_classes=40), None
+
+    monkeypatch.setattr(odmo_trajectory, "trained_recognizer", uestc_recognizer)
+    with pytest.raises(ValueError, match="evaluator: it recognises 40 classes, but the real set 'train'"):
+        odmo_trajectory.main(["--profile", "smoke", "--out", str(tmp_path), "--set",
+                              "tables.humanact12.evaluator.dataset=synth-uestc"])
