@@ -81,5 +81,21 @@ def test_concatenate_appends_sequences_in_order():
     assert both.split == "all" and list(both.lengths) == [5, 7, 3]
     np.testing.assert_array_equal(both[2].joints, b[0].joints)
     other = pack(_motions((2,)), name="x", split="train", class_names=("z",) * 3, skeleton=SMPL24, fps=20)
-    with pytest.raises(ValueError, match="other classes"):
+    with pytest.raises(ValueError, match="differs from toy/train in its classes"):
         concatenate([a, other], split="all")
+
+
+def test_concatenate_refuses_another_frame_rate_or_missing_rotations():
+    import dataclasses
+
+    from jaxmotion.data import concatenate
+
+    a = _dataset((5, 7))
+    # the result could hold one rate only; a part without rotations would drop everyone's
+    with pytest.raises(ValueError, match=r"in its frame rate \(fps 30 and 20\)"):
+        concatenate([a, dataclasses.replace(_dataset((3,)), fps=30.0)], split="all")
+    with pytest.raises(ValueError, match="in its rotations"):
+        concatenate([a, _dataset((3,), rotations=False)], split="all")
+    with pytest.raises(ValueError, match="at least one dataset"):
+        concatenate([], split="all")
+    assert concatenate([_dataset((2,), rotations=False)] * 2, split="all").rotations is None

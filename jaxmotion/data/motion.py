@@ -297,18 +297,27 @@ def to_dataset(motions: dict, skeleton: Skeleton, class_names: Sequence[str], fp
 
 
 def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
-    """The sequences of several datasets with the same classes and skeleton, one after another."""
+    """The sequences of several datasets with the same classes, skeleton, persons, frame rate and fields, one after
+    another. Anything that differs is an error naming it (the result could hold only one rate, and one part
+    without rotations would drop everyone's)."""
+    if not parts:
+        raise ValueError("concatenate: expected at least one dataset, got none")
     first = parts[0]
     for p in parts[1:]:
-        if p.class_names != first.class_names or p.skeleton is not first.skeleton or p.persons != first.persons:
-            raise ValueError(f"concatenate: {p.name}/{p.split} has other classes, another skeleton or another "
-                             f"number of persons than {first.name}/{first.split}")
-    rotations = [p.rotations for p in parts]
+        differs = [what for what, same in (("classes", p.class_names == first.class_names),
+                                           ("skeleton", p.skeleton is first.skeleton),
+                                           ("number of persons", p.persons == first.persons),
+                                           ("frame rate", p.fps == first.fps),
+                                           ("rotations (present in one, absent in the other)",
+                                            (p.rotations is None) == (first.rotations is None))) if not same]
+        if differs:
+            raise ValueError(f"concatenate: {p.name}/{p.split} differs from {first.name}/{first.split} in its "
+                             f"{', '.join(differs)} (fps {p.fps:g} and {first.fps:g})")
     return dataclasses.replace(
         first, split=split,
         joints=np.concatenate([p.joints for p in parts]),
         translation=np.concatenate([p.translation for p in parts]),
-        rotations=None if any(r is None for r in rotations) else np.concatenate(rotations),
+        rotations=None if first.rotations is None else np.concatenate([p.rotations for p in parts]),
         starts=np.concatenate([[0], np.cumsum(np.concatenate([p.lengths for p in parts]))]).astype(np.int64),
         actions=np.concatenate([p.actions for p in parts]),
         modes=np.concatenate([p.modes for p in parts]),
