@@ -437,3 +437,16 @@ def test_export_motions_rejects_npz_off_the_smpl_tree_and_unknown_formats(tmp_pa
         export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("fbx",))
     with pytest.raises(ValueError, match=re.escape("names: expected plain file names")):
         export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("npy",), names=["../x"])
+
+
+@pytest.mark.parametrize("fmt", ["npy", "bvh"])
+def test_a_later_motion_that_is_not_a_number_stops_the_export_before_any_file(tmp_path, fmt):
+    motions = batch()
+    clips = [Motion(joints=motions["joints"][n, :t], translation=motions["translation"][n, :t],
+                    rotations=motions["rotations"][n, :t], action=0, name=f"clip{n}")
+             for n, t in enumerate(motions["lengths"])]
+    clips[2].joints[3, 5, 1] = np.nan  # the last motion
+    data = pack(clips, name="gen", split="all", class_names=("a",), skeleton=SMPL24, fps=FPS)
+    with pytest.raises(ValueError, match=re.escape("motion 'clip2': joints: 1 non-finite values")):
+        export.export_motions(tmp_path, data, formats=(fmt,))
+    assert not list(tmp_path.iterdir())  # all or nothing

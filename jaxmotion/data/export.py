@@ -712,6 +712,11 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
                          f"{skeleton.num_joints} joints")
     if "bvh" in formats:
         _check_names(skeleton.joint_names, skeleton.num_joints)
+    for stem, clip in zip(stems, clips):  # every motion before the first file: a bad one must not leave half an export
+        _check_finite(np.asarray(clip.joints), f"motion {stem!r}: joints")
+        if rotation_formats:
+            _check_finite(np.asarray(clip.rotations), f"motion {stem!r}: rotations")
+            _check_finite(np.asarray(clip.translation), f"motion {stem!r}: translation")
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
