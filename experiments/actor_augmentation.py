@@ -128,7 +128,7 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
 
 def main(argv=None):
     return experiment.main("actor_augmentation", ActorAugmentationConfig, run, argv, description=__doc__,
-                           claims=CLAIMS)
+                           claims=CLAIMS, exports=True)
 
 
 if __name__ == "__main__":

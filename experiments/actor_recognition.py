@@ -164,7 +164,7 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
 
 def main(argv=None):
     return experiment.main("actor_recognition", ActorRecognitionConfig, run, argv, description=__doc__,
-                           claims=CLAIMS)
+                           claims=CLAIMS, exports=True)
 
 
 if __name__ == "__main__":

@@ -76,7 +76,8 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
 
 
 def main(argv=None):
-    return experiment.main("actor_uestc", ActorUestcConfig, run, argv, description=__doc__, claims=CLAIMS)
+    return experiment.main("actor_uestc", ActorUestcConfig, run, argv, description=__doc__, claims=CLAIMS,
+                           exports=True)
 
 
 if __name__ == "__main__":

@@ -280,9 +280,11 @@ def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]], claims: Sequence[
 
 
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
-         description: str | None = None, claims: Sequence[Claim] = ()) -> dict[str, Any]:
+         description: str | None = None, claims: Sequence[Claim] = (), exports: bool = False) -> dict[str, Any]:
     """The command line every experiment shares; returns the final metrics (summary for several seeds).
-    ``claims``: what the paper claims from this table (checked on every run, written with the table)."""
+    ``claims``: what the paper claims from this table (checked on every run, written with the table).
+    ``exports``: whether ``run_fn`` writes generated motions through :meth:`RunContext.export`; ``--export``
+    is an error where it does not (it would write nothing)."""
     check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
     # Everything the command line says is checked before --print-config returns, so a printed config is one
@@ -292,6 +294,10 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         text = cfglib.to_json(config)  # a config that cannot be recorded never trains
         seeds = _seeds(args.seed, args.seeds)
         formats = _parse_formats(args.export)
+        if formats and not exports:
+            raise cfglib.ConfigError(f"--export: {name} keeps no generated motions to write; export a trained row's "
+                                     "motions from its folder (jaxmotion.load_generator, then "
+                                     "jaxmotion.data.export.export_motions)")
         if args.devices is not None and args.devices < 1:
             raise cfglib.ConfigError(f"--devices: expected 1 or more devices, got {args.devices}")
     except ValueError as err:  # ConfigError, and a profile constructor's own checks

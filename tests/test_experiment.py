@@ -111,7 +111,7 @@ def test_print_config_shows_resolved_overrides(tmp_path, capsys):
 def test_print_config_accepts_every_run_flag_and_checks_only_what_the_command_says(tmp_path, capsys):
     # the machine's devices and the --out folder are the run's business: a command printed here runs elsewhere
     (tmp_path / "file").write_text("")
-    _run_toy(tmp_path / "file", "--seeds", "0,1", "--export", "npz,bvh", "--devices", "100000", "--print-config")
+    _run_toy(tmp_path / "file", "--seeds", "0,1", "--devices", "100000", "--print-config")
     assert json.loads(capsys.readouterr().out)["train"]["steps"] == 40
 
 
@@ -259,6 +259,9 @@ def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
                                            (["--devices", "100000"], "--devices: expected 1 to"),
                                            (["--export", "fbx"], "--export: unknown formats"),
                                            (["--export", "fbx", "--print-config"], "--export: unknown formats"),
+                                           # the toy generates nothing: --export would write nothing
+                                           (["--export", "npy", "--print-config"], "toy: --export: toy keeps no "
+                                                                                  "generated motions to write"),
                                            (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct")])
 def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):
     with pytest.raises(SystemExit, match=message):
