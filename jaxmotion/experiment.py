@@ -44,6 +44,7 @@ from jaxmotion.data.export import FORMATS as EXPORT_FORMATS
 from jaxmotion.data.export import export_motions
 from jaxmotion.data.motion import MotionDataset, on_the_floor
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
+from jaxmotion.evaluation.recognizers import recording_evaluators
 from jaxmotion.evaluation.stats import Summary, summarize
 from jaxmotion.evaluation.table import format_table
 from jaxmotion.recipes.tables import run_table
@@ -234,12 +235,13 @@ def _run_locked(ctx: RunContext, config: Any, run_fn: RunFn, claims: Sequence[Cl
     if is_primary():
         write_json(config_path, record)
     print(f"[{name}] {ctx.profile} profile, seed {seed} -> {ctx.workdir}", file=sys.stderr)
-    rows = run_fn(config, ctx)
+    with recording_evaluators() as evaluators:  # the run's own, whatever else the cache holds
+        rows = run_fn(config, ctx)
     if is_primary():
         write_json(ctx.workdir / provenance.SESSION_FILE, provenance.session(started, time.monotonic() - clock, resumed))
     return write_results(ctx.workdir, rows, f"{name} ({ctx.profile}, seed {seed})", claims,
                          run={"environment": ctx.record(config)["environment"],
-                              "evaluators": provenance.evaluators(config, ctx.data_root)})
+                              "evaluators": evaluators})
 
 
 def _holds_work(folder: Path) -> bool:

@@ -11,7 +11,9 @@
   embedded dataset's generator version and cache file, a real dataset's resolved folder and a manifest of
   its files, an evaluator's cache key. A folder whose inputs differ from the ones it was made with is not
   resumed.
-* :func:`evaluators`: after a run, each evaluator's cache key and held-out accuracy (its ``recognizer.json``).
+
+The evaluators a run used, with their held-out accuracy, are recorded as the run asks for them
+(:func:`~jaxmotion.evaluation.recognizers.recording_evaluators`), not looked up in the cache afterwards.
 """
 
 from __future__ import annotations
@@ -158,17 +160,3 @@ def _unique(entries: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Entries once each, in a stable order."""
     unique = {json.dumps(e, sort_keys=True): e for e in entries}
     return [unique[k] for k in sorted(unique)]
-
-
-def evaluators(config: Any, data_root: str | None = None) -> list[dict[str, Any]]:
-    """Each evaluator ``config`` names: its cache key and, once trained, its held-out accuracy."""
-    out = []
-    for item in _walk(config):
-        if isinstance(item, RecognizerTraining):
-            folder = cache_folder(item, data_root=data_root)
-            record_path = folder / "recognizer.json"
-            held_out = json.loads(record_path.read_text())["held_out"] if record_path.exists() else None
-            out.append({"name": item.name, "cache_key": folder.name,
-                        "held_out_accuracy": None if held_out is None else held_out["accuracy"],
-                        "held_out_clips": None if held_out is None else held_out["clips"]})
-    return _unique(out)

@@ -108,8 +108,13 @@ def test_trajectory_table_measures_the_end_point_error_of_every_row(tmp_path):
 def test_sigma_sweep_trains_one_model_per_value_with_the_code_reading(tmp_path):
     from experiments import odmo_sigma
 
-    rows = run_smoke(odmo_sigma, tmp_path)["rows"]
+    result = run_smoke(odmo_sigma, tmp_path)
+    rows = result["rows"]
     assert [name for name in rows if not name.endswith("(reported)")] == ["σ²=6.25", "σ²=0.05", "Real"]
+    # its config names the evaluators of all three datasets; metrics.json names the one the run used, whatever
+    # else the (session's) cache holds
+    assert [e["name"] for e in result["run"]["evaluators"]] == ["synth-uestc/gru"]
+    assert 0 < result["run"]["evaluators"][0]["held_out_accuracy"] <= 1
     # the smoke runs UESTC (the paper profile all three), scored on the train and the test split
     assert list(rows["σ²=0.05"]) == [f"UESTC {c}" for c in ("Acc", "FID_tr", "FID_test", "Diversity", "MModality")]
     for name in ("σ²=6.25", "σ²=0.05"):

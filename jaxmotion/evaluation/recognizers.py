@@ -18,11 +18,13 @@ NTU-120 and BABEL stand-ins); otherwise, for the embedded datasets, the same gen
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import dataclasses
 import hashlib
 import json
 import os
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Literal
 
@@ -297,6 +299,31 @@ def usable_cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
+# The evaluators handed out inside a `recording_evaluators` block (None outside one): what a run used, so that its
+# results name those and nothing else the cache happens to hold. A context variable, scoped by the block.
+_USED: contextvars.ContextVar[list[dict[str, Any]] | None] = contextvars.ContextVar("evaluators_used", default=None)
+
+
+@contextlib.contextmanager
+def recording_evaluators() -> Iterator[list[dict[str, Any]]]:
+    """Within the block, each evaluator :func:`trained_recognizer` hands out is added to the yielded list as
+    ``{name, cache_key, held_out_accuracy, held_out_clips}`` (once each, sorted when the block ends)."""
+    used: list[dict[str, Any]] = []
+    token = _USED.set(used)
+    try:
+        yield used
+    finally:
+        _USED.reset(token)
+        unique = {json.dumps(entry, sort_keys=True): entry for entry in used}
+        used[:] = [unique[key] for key in sorted(unique)]
+
+
+def _note_used(spec: RecognizerTraining, folder: Path, record: dict[str, Any]) -> None:
+    if (used := _USED.get()) is not None:
+        used.append({"name": spec.name, "cache_key": folder.name, "held_out_accuracy": record["held_out"]["accuracy"],
+                     "held_out_clips": record["held_out"]["clips"]})
+
+
 def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None = None,
                        data_root: str | None = None, progress: bool = True) -> tuple[Recognizer, dict[str, Any]]:
     """The evaluator ``spec`` and its ``recognizer.json`` record (spec, held-out accuracy), trained on
@@ -313,6 +340,7 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
                                                          persons))
             with Checkpointer(folder / "checkpoints") as ckpt:
                 state = ckpt.restore(like)
+            _note_used(spec, folder, record)
             return _recognizer(spec, skeleton, record["class_names"], state), record
         held_out_set = held_out_data(spec, data_root)  # before training: a dataset without one fails now
         print(f"[evaluator] training {spec.name} ({spec.loop.steps} steps) once; cached in {folder}", file=sys.stderr)
@@ -326,4 +354,5 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
               f"{held_out['clips']} clips", file=sys.stderr)
         if is_primary():
             write_json(folder / "recognizer.json", record)  # written last: its presence marks the evaluator finished
+        _note_used(spec, folder, record)
         return recognizer, record
