@@ -476,7 +476,14 @@ def test_cmu_non_finite_joints_and_duplicate_motions_name_the_file(tmp_path):
     clip = CMU_REST[None].repeat(3, 0)
     clip[1, 4, 2] = np.nan
     np.save(tmp_path / cmu_mocap.JOINTS_DIR / "01_01.npy", clip)
-    with pytest.raises(ValueError, match=r"01_01\.npy: joints: 1 non-finite values .*first at index \(1, 4, 2\)"):
+    with pytest.raises(ValueError, match=r"01_01\.npy: joints: 1 values that are not finite in float32 .*first at "
+                                         r"index \(1, 4, 2\)"):
+        load_cmu_mocap(tmp_path)
+    clip = clip.astype(np.float64)
+    clip[1, 4, 2] = 1e39  # finite in the file, infinite once stored as float32
+    np.save(tmp_path / cmu_mocap.JOINTS_DIR / "01_01.npy", clip)
+    with pytest.raises(ValueError, match=r"01_01\.npy: joints: 1 values that are not finite in float32 \(NaN, "
+                                         r"infinite or beyond ±3.4e38\), the first at index \(1, 4, 2\): 1e\+39"):
         load_cmu_mocap(tmp_path)
     write_cmu(tmp_path, [("01_01", "Walk", 3), ("86_03", "Run", 2), ("01_01", "Walk", 3)])
     with pytest.raises(ValueError, match=r"pose_clip\.csv: motion '01_01' is listed twice \(at row 2 and row 4\)"):
@@ -488,7 +495,7 @@ def test_humanact12poses_non_finite_poses_name_the_file_and_clip(tmp_path):
     data = pickle.loads((tmp_path / "humanact12poses.pkl").read_bytes())
     data["poses"][1][2, 5] = np.inf
     dump(tmp_path / "humanact12poses.pkl", data)
-    with pytest.raises(ValueError, match=r"humanact12poses\.pkl: poses\[1\]: 1 non-finite values"):
+    with pytest.raises(ValueError, match=r"humanact12poses\.pkl: poses\[1\]: 1 values that are not finite in float32"):
         load_humanact12poses(tmp_path)
 
 

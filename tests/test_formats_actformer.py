@@ -457,7 +457,8 @@ def test_ntu2p_prepared_keeps_flip_copies_as_stored(tmp_path, h5py):
     ({"S001C001P001R001A095": np.zeros((3, 25, 4), np.float32)},
      r"key 'S001C001P001R001A095': class id 095 minus 1: expected an integer class index in \[0, 94\), got 94"),
     ({"clip7": np.zeros((3, 25, 4), np.float32)}, r"key 'clip7': expected 'A' and 3 digits"),
-    ({"S001C001P001R001A001": np.full((3, 25, 2), np.nan, np.float32)}, r"'S001C001P001R001A001': 150 non-finite"),
+    ({"S001C001P001R001A001": np.full((3, 25, 2), np.nan, np.float32)},
+     r"'S001C001P001R001A001': 150 values that are not finite in float32"),
 ])
 def test_ntu_prepared_malformed_h5_names_file_and_key(tmp_path, h5py, arrays, message):
     path = tmp_path / "data1p" / "xsub.test.h5"

@@ -229,9 +229,25 @@ def test_a_damaged_latest_checkpoint_falls_back_to_the_previous_one(tmp_path, ca
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # orbax's reads, abandoned
 def test_a_state_fitting_no_checkpoint_is_an_error_naming_the_folder_and_moves_nothing(tmp_path):
     _counter_run(tmp_path, steps=4)
-    with pytest.raises(ValueError, match=f"no checkpoint in {tmp_path / 'checkpoints'} could be restored"):
-        Checkpointer(tmp_path / "checkpoints").restore(Counter(jnp.int32(0), jnp.zeros(5)))
-    assert Checkpointer(tmp_path / "checkpoints").latest_step() == 4
+    folder = tmp_path / "checkpoints"
+    with pytest.raises(ValueError, match=f"no checkpoint in {folder} could be restored.* hold another state .*"
+                                         f"delete {folder} to train this one from the start"):
+        Checkpointer(folder).restore(Counter(jnp.int32(0), jnp.zeros(5)))
+    assert Checkpointer(folder).latest_step() == 4 and not (tmp_path / "checkpoints-damaged").exists()
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # orbax's reads, abandoned
+def test_when_every_checkpoint_is_damaged_they_are_set_aside_and_the_run_starts_over(tmp_path, capsys):
+    whole = _counter_run(tmp_path / "whole")
+    _counter_run(tmp_path / "broken", steps=4)
+    for step in (2, 4):
+        _damage_latest(tmp_path / "broken" / "checkpoints", step)
+    resumed = _counter_run(tmp_path / "broken")
+    err = capsys.readouterr().err
+    assert "every checkpoint in" in err and "starting over from step 0" in err
+    assert sorted(p.name.split("-")[0] for p in (tmp_path / "broken" / "checkpoints-damaged").iterdir()) == ["2", "4"]
+    np.testing.assert_array_equal(resumed.w, whole.w)  # from step 0 again: the same run
+    assert _steps(tmp_path / "broken") == [2, 4, 6]
 
 
 def test_temporary_folders_of_unfinished_saves_are_removed(tmp_path, capsys):

@@ -4,7 +4,8 @@ Saves are synchronous on purpose: a process killed right after ``save`` returns 
 checkpoint, and orbax writes each step to a temporary folder that it renames only once complete, so a
 kill during a save leaves the previous checkpoint as the latest one; opening the folder again deletes that
 temporary folder. A checkpoint damaged afterwards (a file cut short by a full disk, a bad copy) is skipped
-for the previous one, with a warning (:meth:`Checkpointer.restore`).
+for the previous one, with a warning; when every one is damaged they are all set aside and the run starts over
+(:meth:`Checkpointer.restore`, :class:`CheckpointsDamaged`).
 
 Restores take the shardings of the state they restore into: a state replicated on a data mesh
 (:mod:`jaxmotion.distributed`) comes back replicated on that mesh, whatever mesh wrote it. With several
@@ -24,6 +25,11 @@ import jax
 import orbax.checkpoint as ocp
 
 TMP_MARK = ".orbax-checkpoint-tmp"  # orbax writes a step to <step>.orbax-checkpoint-tmp-<n>, then renames it
+
+
+class CheckpointsDamaged(FileNotFoundError):
+    """No checkpoint of a folder can be read at all (damage, not a state that does not fit them); they were moved
+    to ``<directory>-damaged/``, so the folder now holds none and a run starts over from step 0."""
 
 
 class Checkpointer:
@@ -63,8 +69,10 @@ class Checkpointer:
         Without ``like`` the checkpoint comes back as nested dicts and lists of arrays (for inspection).
         When the latest checkpoint cannot be read (a file cut short or damaged) but an earlier one can, the
         earlier one is restored, with a warning, and the damaged one is moved to ``<directory>-damaged/``
-        (kept for inspection; a later save of its step must not find it). When none can be read, the error
-        names the folder and nothing is moved: a state that does not fit any checkpoint is not damage.
+        (kept for inspection; a later save of its step must not find it). When none can be read:
+        if they cannot be read even without ``like`` (damage), they all move there, with a warning, and
+        :class:`CheckpointsDamaged` says the folder holds none now; if they can (the state does not fit them:
+        another model or optimiser), the error says so and what to delete, and nothing moves.
         """
         abstract = None if like is None else jax.tree.map(ocp.utils.to_shape_dtype_struct, like)
         if step is not None:
@@ -88,8 +96,27 @@ class Checkpointer:
                       f"{candidate} instead" + (f" and moved the damaged ones to {self._damaged}" if moved else ""),
                       file=sys.stderr)
             return state
+        if abstract is not None and not any(self._readable(step) for step in steps):
+            if self.read_only or jax.process_index() != 0:
+                raise ValueError(f"every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
+                                 f"{_first_line(errors[0][1])})") from errors[0][1]
+            self._set_aside(steps)
+            print(f"warning: every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
+                  f"{_first_line(errors[0][1])}); moved them to {self._damaged} and starting over from step 0",
+                  file=sys.stderr)
+            raise CheckpointsDamaged(f"every checkpoint in {self.directory} was damaged and set aside")
         raise ValueError(f"no checkpoint in {self.directory} could be restored into this state; the latest (step "
-                         f"{steps[0]}): {_first_line(errors[0][1])}") from errors[0][1]
+                         f"{steps[0]}): {_first_line(errors[0][1])}. They can be read, so they hold another state "
+                         f"(another model, optimiser or config); delete {self.directory} to train this one from "
+                         f"the start") from errors[0][1]
+
+    def _readable(self, step: int) -> bool:
+        """Whether the checkpoint of ``step`` can be read as it was saved (with no state to fit)."""
+        try:
+            self._manager.restore(step, args=ocp.args.StandardRestore(None))
+        except Exception:  # noqa: BLE001 (orbax and tensorstore raise many types for unreadable files)
+            return False
+        return True
 
     def _restore(self, step: int, abstract: Any) -> Any:
         if step not in self._manager.all_steps():

@@ -46,7 +46,7 @@ import jax.numpy as jnp
 from jax.sharding import Mesh
 
 from jaxmotion.files import folder_lock, write_atomic
-from jaxmotion.train.checkpoint import Checkpointer
+from jaxmotion.train.checkpoint import Checkpointer, CheckpointsDamaged
 from jaxmotion.distributed import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
 
@@ -116,9 +116,12 @@ def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_
             state, key = replicate(state, mesh), replicate(key, mesh)
         resumed = ckpt is not None and ckpt.latest_step() is not None
         if resumed:
-            state = ckpt.restore(state)
-            _report(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}")
-        elif init_from is not None:
+            try:
+                state = ckpt.restore(state)
+                _report(f"resuming from the checkpoint at step {int(state.step)} in {ckpt.directory}")
+            except CheckpointsDamaged:  # set aside with a warning: the run starts over
+                resumed = False
+        if not resumed and init_from is not None:
             state = _restore_from(init_from, state)
         start = int(state.step)
         if log_path is not None:

@@ -106,7 +106,8 @@ def check_sequence(value: object, length: int | None, *, file: Path, key: str):
 
 
 def check_array(value: object, shape: tuple[int | str, ...], *, file: Path | str, key: str) -> np.ndarray:
-    """``value`` as a float64 array after checking it is a real numeric array of ``shape``.
+    """``value`` as a float64 array after checking it is a real numeric array of ``shape`` whose values are finite
+    in float32, the precision every dataset stores (a finite 1e39 would become infinite there).
 
     ``shape`` entries are sizes, or names of free axes (e.g. ``("T", 72)``); a free axis must be non-empty,
     since every clip has at least one frame.
@@ -123,11 +124,12 @@ def check_array(value: object, shape: tuple[int | str, ...], *, file: Path | str
         got = f"shape {array.shape} dtype {array.dtype}" if array is not None else type(value).__name__
         raise ValueError(f"{file}: {key}: expected a real numeric array of shape {expected}, got {got}")
     array = np.asarray(array, dtype=np.float64)
-    bad = ~np.isfinite(array)
+    with np.errstate(over="ignore"):  # the overflow is what is being looked for
+        bad = ~np.isfinite(array.astype(np.float32))
     if bad.any():
         first = tuple(int(i) for i in np.argwhere(bad)[0])
-        raise ValueError(f"{file}: {key}: {int(bad.sum())} non-finite values (NaN or infinite), the first at "
-                         f"index {first}: {array[first]}")
+        raise ValueError(f"{file}: {key}: {int(bad.sum())} values that are not finite in float32 (NaN, infinite or "
+                         f"beyond ±3.4e38), the first at index {first}: {array[first]}")
     return array
 
 
