@@ -97,13 +97,14 @@ class Checkpointer:
                       file=sys.stderr)
             return state
         if abstract is not None and not any(self._readable(step) for step in steps):
-            if self.read_only or jax.process_index() != 0:
+            if self.read_only:  # another run's (init_from): not ours to move
                 raise ValueError(f"every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
                                  f"{_first_line(errors[0][1])})") from errors[0][1]
-            self._set_aside(steps)
-            print(f"warning: every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
-                  f"{_first_line(errors[0][1])}); moved them to {self._damaged} and starting over from step 0",
-                  file=sys.stderr)
+            if jax.process_index() == 0:  # every process starts over; the first moves the files
+                self._set_aside(steps)
+                print(f"warning: every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
+                      f"{_first_line(errors[0][1])}); moved them to {self._damaged} and starting over from step 0",
+                      file=sys.stderr)
             raise CheckpointsDamaged(f"every checkpoint in {self.directory} was damaged and set aside")
         raise ValueError(f"no checkpoint in {self.directory} could be restored into this state; the latest (step "
                          f"{steps[0]}): {_first_line(errors[0][1])}. They can be read, so they hold another state "
