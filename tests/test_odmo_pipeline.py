@@ -166,3 +166,14 @@ def test_code_bank_holds_unique_codes_in_class_order_with_their_windows_ends():
     np.testing.assert_array_equal(bank.modes, data.modes[bank.clips])
     again = pipe.code_bank(params, stats, config, data, jax.random.key(2), bank=BANK)
     np.testing.assert_array_equal(bank.codes, again.codes)
+
+
+def test_end_point_trials_refuse_a_class_without_bank_codes():
+    import dataclasses
+
+    trained = _trained(_bank())
+    bank = trained.bank
+    keep = bank.actions != 1
+    empty = pipe.CodeBank(bank.codes[keep], bank.ends[keep], bank.actions[keep], bank.clips[keep], bank.modes[keep])
+    with pytest.raises(ValueError, match="class 1 has no code in its bank"):  # it was a bare IndexError
+        pipe.end_point_trials(dataclasses.replace(trained, bank=empty), jax.random.key(0), trials=2, points=4)

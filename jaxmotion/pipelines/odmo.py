@@ -476,6 +476,9 @@ def end_point_trials(generator: ODMOGenerator, key: jax.Array, *, trials: int = 
     codes, ends, actions = [], [], []
     for c in range(config.num_classes):
         rows = bank.of_class(c)
+        if rows.size == 0:
+            raise ValueError(f"generator: class {c} has no code in its bank (its training data had no clip of it), "
+                             "so there are no real end points to steer between")
         pick = np.asarray(jax.random.randint(jax.random.fold_in(key, c), (trials, 2), 0, len(rows)))
         source, end_b = rows[pick[:, 0]], rows[pick[:, 1]]
         w = np.linspace(0.0, 1.0, points, dtype=np.float32)[None, :, None]
