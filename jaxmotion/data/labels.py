@@ -9,7 +9,14 @@ which is why every public entry point calls them before compiling anything.
 from __future__ import annotations
 
 import jax
+import jax.numpy as jnp
 import numpy as np
+
+
+def ids_in_range(ids: jax.Array, size: int) -> jax.Array:
+    """``[]`` bool, jittable: every id of ``ids`` in ``[0, size)``. The jitted metric kernels turn their value
+    into NaN when it is False (they cannot raise on traced values, and dropping the id would move the metric)."""
+    return jnp.all((ids >= 0) & (ids < size))
 
 
 def _concrete(values) -> np.ndarray | None:

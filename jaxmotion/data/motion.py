@@ -307,12 +307,12 @@ def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
         differs = [what for what, same in (("classes", p.class_names == first.class_names),
                                            ("skeleton", p.skeleton is first.skeleton),
                                            ("number of persons", p.persons == first.persons),
-                                           ("frame rate", p.fps == first.fps),
+                                           (f"frame rate (fps {p.fps:g} and {first.fps:g})", p.fps == first.fps),
                                            ("rotations (present in one, absent in the other)",
                                             (p.rotations is None) == (first.rotations is None))) if not same]
         if differs:
             raise ValueError(f"concatenate: {p.name}/{p.split} differs from {first.name}/{first.split} in its "
-                             f"{', '.join(differs)} (fps {p.fps:g} and {first.fps:g})")
+                             f"{', '.join(differs)}")
     return dataclasses.replace(
         first, split=split,
         joints=np.concatenate([p.joints for p in parts]),

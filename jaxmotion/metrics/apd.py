@@ -43,6 +43,8 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.data.labels import ids_in_range
+
 _HIGHEST = jax.lax.Precision.HIGHEST
 
 
@@ -58,10 +60,6 @@ def _check_ids(name: str, ids: jax.Array, num_samples: int) -> jax.Array:
     if ids.shape != (num_samples,) or not jnp.issubdtype(ids.dtype, jnp.integer):
         raise ValueError(f"{name}: expected integer [N] = ({num_samples},), got {ids.dtype} {tuple(ids.shape)}")
     return ids
-
-
-def _in_range(ids: jax.Array, size: int) -> jax.Array:
-    return jnp.all((ids >= 0) & (ids < size))
 
 
 def _within_class_distances(motions: jax.Array, labels: jax.Array, num_classes: int) -> jax.Array:
@@ -101,7 +99,7 @@ def apd_per_class(motions: jax.Array, labels: jax.Array, num_classes: int) -> ja
     labels = _check_ids("labels", labels, motions.shape[0])
     distances = _within_class_distances(motions, labels, num_classes)
     per_class = _apd_from_sums(*_group_sums(distances.sum(axis=1), labels, num_classes))
-    return jnp.where(_in_range(labels, num_classes), per_class, jnp.nan)
+    return jnp.where(ids_in_range(labels, num_classes), per_class, jnp.nan)
 
 
 @jax.jit
@@ -168,5 +166,5 @@ def mode_homogeneity(
     mode_apd = weighted.reshape(num_classes, num_modes).sum(axis=1) / jnp.maximum(class_counts, 1.0)
 
     homogeneity = 100.0 * ((class_apd - mode_apd) / class_apd).mean()
-    valid = _in_range(labels, num_classes) & _in_range(modes, num_modes)
+    valid = ids_in_range(labels, num_classes) & ids_in_range(modes, num_modes)
     return jnp.where(valid, homogeneity, jnp.nan)

@@ -26,6 +26,8 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.data.labels import ids_in_range
+
 
 def _check(features: jax.Array, labels: jax.Array | None = None) -> None:
     if features.ndim != 2:
@@ -62,5 +64,4 @@ def multimodality(key: jax.Array, features: jax.Array, labels: jax.Array, num_cl
         return jnp.linalg.norm(features[first] - features[second], axis=-1).sum(), members.any()
 
     sums, present = jax.vmap(class_sum)(jax.random.split(key, num_classes), jnp.arange(num_classes))
-    in_range = jnp.all((labels >= 0) & (labels < num_classes))
-    return jnp.where(in_range, jnp.where(present, sums, 0.0).sum() / (pairs * present.sum()), jnp.nan)
+    return jnp.where(ids_in_range(labels, num_classes), jnp.where(present, sums, 0.0).sum() / (pairs * present.sum()), jnp.nan)

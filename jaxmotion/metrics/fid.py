@@ -22,6 +22,8 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.data.labels import ids_in_range
+
 _HIGHEST = jax.lax.Precision.HIGHEST
 
 
@@ -107,7 +109,7 @@ def fid_per_class(features_a: jax.Array, labels_a: jax.Array, features_b: jax.Ar
     _check_features("features_b", features_b)
     _check_labels("labels_a", labels_a, features_a)
     _check_labels("labels_b", labels_b, features_b)
-    in_range = jnp.all((labels_a >= 0) & (labels_a < num_classes)) & jnp.all((labels_b >= 0) & (labels_b < num_classes))
+    in_range = ids_in_range(labels_a, num_classes) & ids_in_range(labels_b, num_classes)
     return jnp.where(in_range, _per_class(features_a, labels_a, features_b, labels_b, num_classes), jnp.nan)
 
 
