@@ -1,6 +1,7 @@
 """Tests for the SMPL-format body layer on a small hand-made model written in the SMPL format."""
 
 import pickle
+import re
 import sys
 import types
 
@@ -284,6 +285,15 @@ def test_too_many_betas_and_wrong_pose_shape_raise(model):
         _forward(model, _zero_pose(), jnp.zeros(NUM_BETAS + 1))
     with pytest.raises(ValueError, match="rotmats"):
         _forward(model, jnp.zeros((NUM_JOINTS + 1, 3)))
+
+
+def test_a_concrete_mirrored_joint_rotation_is_refused(model):
+    rotmats = np.tile(np.eye(3, dtype=np.float32), (NUM_JOINTS, 1, 1))
+    rotmats[1, 0, 0] = -1.0
+    with pytest.raises(ValueError, match=re.escape("body_forward_rotmats: rotmats: 1 of "
+                                                   f"{NUM_JOINTS} matrices are not rotations; the first, at index "
+                                                   "(1,), is a reflection")):
+        body_forward_rotmats(model, rotmats)
 
 
 def test_jit_matches_eager(model):

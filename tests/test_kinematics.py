@@ -348,3 +348,26 @@ def test_humanact12_frame_conversion_is_a_proper_rotation_turning_up_down_and_fo
     np.testing.assert_allclose(matrix @ matrix.T, np.eye(3))
     assert np.linalg.det(matrix) == pytest.approx(1.0)
     np.testing.assert_array_equal(matrix, np.diag([1.0, -1.0, -1.0]))
+
+
+def test_fk_refuses_a_concrete_scaled_or_mirrored_joint_rotation_but_not_under_jit():
+    rotmats = np.tile(np.eye(3, dtype=np.float32), (2, SMPL24.num_joints, 1, 1))
+    rotmats[1, 5] *= 1.1  # would stretch every bone below joint 5
+    args = (rotmats, np.zeros((2, 3), np.float32), SMPL24.offsets)
+    for fk, name in ((forward_kinematics, "forward_kinematics"),
+                     (forward_kinematics_transforms, "forward_kinematics_transforms")):
+        with pytest.raises(ValueError, match=re.escape(f"{name}: local_rotmats: 1 of 48 matrices are not rotations; "
+                                                       f"the first, at index (1, 5), is scaled or sheared")):
+            fk(*args, SMPL24.parents)
+    stretched = np.asarray(forward_kinematics(*args, SMPL24.parents, check=False))
+    np.testing.assert_allclose(stretched, jax.jit(forward_kinematics, static_argnums=3)(*args, SMPL24.parents),
+                               atol=1e-6)
+    lengths = bone_lengths(stretched, SMPL24.parents)
+    assert (lengths[1] > lengths[0] + 1e-4).any() and np.allclose(lengths[0], bone_lengths(
+        forward_kinematics(*(a[:1] for a in args[:2]), SMPL24.offsets, SMPL24.parents), SMPL24.parents)[0])
+
+
+def test_transform_root_refuses_a_reflection():
+    with pytest.raises(ValueError, match=re.escape("transform_root: rotation: 1 of 1 matrices are not rotations; "
+                                                   "the first, at index (), is a reflection")):
+        transform_root(np.diag([-1.0, 1.0, 1.0]), np.zeros(3), np.tile(np.eye(3), (4, 1, 1)), np.zeros((4, 3)))

@@ -462,3 +462,33 @@ def test_check_rotations_names_what_is_wrong_with_the_first_bad_matrix(matrix, k
     with pytest.raises(ValueError, match=re.escape(f"poses: 1 of 4 matrices are not rotations; the first, at "
                                                    f"index (1, 0), is {kind}")):
         rot.check_rotations(batch, where="poses")
+
+
+MATRIX_INPUTS = {
+    "matrix_to_axis_angle": rot.matrix_to_axis_angle,
+    "matrix_to_quaternion": rot.matrix_to_quaternion,
+    "matrix_to_rot6d": rot.matrix_to_rot6d,
+    "matrix_to_euler": functools.partial(rot.matrix_to_euler, order="ZXY"),
+    "from_matrix": functools.partial(rot.from_matrix, rep="matrix"),
+}
+NON_ROTATIONS = [(np.diag([1.0, 1.0, -1.0]), "a reflection"), (1.2 * np.eye(3), "scaled or sheared")]
+
+
+@pytest.mark.parametrize("name", MATRIX_INPUTS)
+@pytest.mark.parametrize("matrix, kind", NON_ROTATIONS)
+def test_converters_from_a_matrix_refuse_a_concrete_non_rotation_naming_themselves(name, matrix, kind):
+    good = np.asarray(rot.axis_angle_to_matrix(jnp.array([[0.3, -1.2, 2.0], [0.5, 0.0, 0.1]])))
+    batch = np.stack([good[0], matrix, good[1]]).astype(np.float32)
+    with pytest.raises(ValueError, match=re.escape(f"{name}: matrix: 1 of 3 matrices are not rotations; the first, "
+                                                   f"at index (1,), is {kind}")):
+        MATRIX_INPUTS[name](batch)
+    np.testing.assert_array_equal(MATRIX_INPUTS[name](batch, check=False)[0], MATRIX_INPUTS[name](good)[0])
+
+
+def test_the_rotation_check_is_skipped_under_jit_and_lets_nan_through():
+    """The documented contract: traced values are not checked (the hot paths pay nothing), and a NaN
+    matrix comes out NaN rather than as an error (the loaders refuse non-finite input)."""
+    reflection = jnp.diag(jnp.array([1.0, 1.0, -1.0]))
+    assert np.isfinite(jax.jit(rot.matrix_to_axis_angle)(reflection)).all()
+    nan = jnp.full((3, 3), jnp.nan)
+    assert np.isnan(rot.matrix_to_axis_angle(nan)).all()

@@ -40,7 +40,7 @@ import numpy as np
 from flax import struct
 
 from jaxmotion.geometry.kinematics import forward_kinematics_transforms
-from jaxmotion.geometry.rotations import axis_angle_to_matrix
+from jaxmotion.geometry.rotations import axis_angle_to_matrix, check_rotations
 from jaxmotion.geometry.skeletons import topological_order
 
 __all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model"]
@@ -257,6 +257,8 @@ def body_forward_rotmats(
     rotmats: jax.Array,
     betas: jax.Array | None = None,
     translation: jax.Array | None = None,
+    *,
+    check: bool = True,
 ) -> tuple[jax.Array, jax.Array]:
     """Poses and skins the body from local joint rotation matrices.
 
@@ -268,6 +270,8 @@ def body_forward_rotmats(
       rotmats: [..., J, 3, 3] local (parent-relative) joint rotations, joint 0 global.
       betas: [..., S'] shape coefficients with S' <= S; missing trailing ones count as zero. None = zeros.
       translation: [..., 3] world translation of the whole body. None = zeros.
+      check: refuse concrete ``rotmats`` that are not rotations (skipped under ``jit``; ``False`` skins
+        any 3x3, see :func:`jaxmotion.geometry.kinematics.forward_kinematics_transforms`).
 
     Returns:
       vertices [..., V, 3] and joints [..., J, 3], both in world coordinates (not root-centred).
@@ -276,6 +280,8 @@ def body_forward_rotmats(
     rotmats = jnp.asarray(rotmats)
     if rotmats.shape[-3:] != (num_joints, 3, 3):
         raise ValueError(f"rotmats must have shape [..., {num_joints}, 3, 3]; got {rotmats.shape}")
+    if check:
+        check_rotations(rotmats, where="body_forward_rotmats: rotmats", allow_nonfinite=True)
     betas = jnp.zeros((0,), rotmats.dtype) if betas is None else jnp.asarray(betas)
     translation = jnp.zeros((3,), rotmats.dtype) if translation is None else jnp.asarray(translation)
     if betas.ndim < 1 or betas.shape[-1] > model.num_betas:
@@ -304,6 +310,7 @@ def body_forward_rotmats(
         jnp.broadcast_to(root, (*batch, 3)),
         jnp.broadcast_to(offsets, (*batch, num_joints, 3)),
         model.parents,
+        check=False,
     )
 
     # A_j maps a rest-pose point to its posed position if rigidly attached to joint j.

@@ -19,6 +19,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.geometry.rotations import check_rotations
 from jaxmotion.geometry.skeletons import bones, topological_order
 
 # 3x3 products are far from compute-bound, and the default precision on GPU/TPU (TF32/bf16) would put
@@ -51,26 +52,8 @@ def _pose_transforms(
     return jnp.stack(rotations), jnp.stack(positions)
 
 
-@functools.partial(jax.jit, static_argnames="parents")
-def forward_kinematics_transforms(
-    local_rotmats: jax.Array, root_translation: jax.Array, offsets: jax.Array, parents: tuple[int, ...]
-) -> tuple[jax.Array, jax.Array]:
-    """Global joint rotations and positions from local rotations (what skinning needs).
-
-    Args:
-      local_rotmats: ``[..., J, 3, 3]`` rotation of each joint relative to its parent (the root's is global).
-      root_translation: ``[..., 3]`` position of the root joint.
-      offsets: ``[J, 3]`` rest offsets shared by every pose, or ``[*B, J, 3]`` per body, where ``B`` is a
-        prefix of the poses' leading axes: e.g. ``[B, J, 3]`` with ``[B, T, J, 3, 3]`` motions gives each
-        body its own bone lengths, shared across its frames.
-      parents: static parent tuple, ``-1`` for the root (joint 0).
-
-    Returns:
-      ``(global_rotmats [..., J, 3, 3], joints [..., J, 3])``.
-
-    Raises:
-      ValueError: on an invalid ``parents`` or a shape that does not match the above.
-    """
+def _fk_arguments(local_rotmats, root_translation, offsets, parents, fn, check):
+    """The FK arguments as arrays after checking the tree, the shapes and (when concrete) the rotations."""
     topological_order(parents)  # validates the tree, cached
     num_joints = len(parents)
     local_rotmats = jnp.asarray(local_rotmats)
@@ -85,7 +68,15 @@ def forward_kinematics_transforms(
     if offsets.ndim < 2 or offsets.shape[-2:] != (num_joints, 3) or body_shape != batch[: len(body_shape)]:
         expected = f"[{num_joints}, 3] or [*B, {num_joints}, 3] with B a prefix of {list(batch)}"
         raise _shape_error("offsets", expected, offsets.shape)
+    if check:
+        check_rotations(local_rotmats, where=f"{fn}: local_rotmats", allow_nonfinite=True)
+    return local_rotmats, root_translation, offsets
 
+
+@functools.partial(jax.jit, static_argnames="parents")
+def _fk_transforms(local_rotmats, root_translation, offsets, parents):
+    """The FK kernel on checked arguments (see :func:`forward_kinematics_transforms`)."""
+    num_joints, batch, body_shape = len(parents), local_rotmats.shape[:-3], offsets.shape[:-2]
     # Flatten to [bodies, frames, ...]: one code path for shared ([J, 3]: one body) and per-body offsets.
     num_bodies, num_frames = math.prod(body_shape), math.prod(batch[len(body_shape) :])
     pose = functools.partial(_pose_transforms, parents=parents)
@@ -99,14 +90,47 @@ def forward_kinematics_transforms(
 
 
 @functools.partial(jax.jit, static_argnames="parents")
-def forward_kinematics(
-    local_rotmats: jax.Array, root_translation: jax.Array, offsets: jax.Array, parents: tuple[int, ...]
-) -> jax.Array:
-    """Joint positions ``[..., J, 3]``; the arguments are those of :func:`forward_kinematics_transforms`.
+def _fk_joints(local_rotmats, root_translation, offsets, parents):
+    """Joint positions alone: compiled apart, so the compiler drops the unused leaf rotations."""
+    return _fk_transforms(local_rotmats, root_translation, offsets, parents)[1]
 
-    Jit-compiled with ``parents`` static; the unused leaf rotations are dropped by the compiler.
+
+def forward_kinematics_transforms(
+    local_rotmats: jax.Array, root_translation: jax.Array, offsets: jax.Array, parents: tuple[int, ...],
+    *, check: bool = True,
+) -> tuple[jax.Array, jax.Array]:
+    """Global joint rotations and positions from local rotations (what skinning needs).
+
+    Args:
+      local_rotmats: ``[..., J, 3, 3]`` rotation of each joint relative to its parent (the root's is global).
+      root_translation: ``[..., 3]`` position of the root joint.
+      offsets: ``[J, 3]`` rest offsets shared by every pose, or ``[*B, J, 3]`` per body, where ``B`` is a
+        prefix of the poses' leading axes: e.g. ``[B, J, 3]`` with ``[B, T, J, 3, 3]`` motions gives each
+        body its own bone lengths, shared across its frames.
+      parents: static parent tuple, ``-1`` for the root (joint 0).
+      check: refuse concrete ``local_rotmats`` that are not rotations (a scaled matrix would stretch the
+        body, a reflection mirror it); skipped under ``jit``, as the converters' check
+        (:mod:`jaxmotion.geometry.rotations`). ``False`` poses the body with any 3x3, as ACTOR's loss does
+        with a network's raw matrices.
+
+    Returns:
+      ``(global_rotmats [..., J, 3, 3], joints [..., J, 3])``; the kernel is jit-compiled, ``parents`` static.
+
+    Raises:
+      ValueError: on an invalid ``parents``, a shape that does not match the above, or (``check``) a
+        finite ``local_rotmats`` entry that is not a rotation.
     """
-    return forward_kinematics_transforms(local_rotmats, root_translation, offsets, parents)[1]
+    args = _fk_arguments(local_rotmats, root_translation, offsets, parents, "forward_kinematics_transforms", check)
+    return _fk_transforms(*args, parents)
+
+
+def forward_kinematics(
+    local_rotmats: jax.Array, root_translation: jax.Array, offsets: jax.Array, parents: tuple[int, ...],
+    *, check: bool = True,
+) -> jax.Array:
+    """Joint positions ``[..., J, 3]``; the arguments are those of :func:`forward_kinematics_transforms`."""
+    return _fk_joints(*_fk_arguments(local_rotmats, root_translation, offsets, parents, "forward_kinematics",
+                                     check), parents)
 
 
 def _check_points(name: str, array: jax.Array, expected: str, min_ndim: int, num_joints: int | None = None):
@@ -209,6 +233,10 @@ def transform_root(
 
     Returns:
       ``(R @ root_rotmats [..., T, 3, 3], R @ root_translation + t [..., T, 3])``.
+
+    Raises:
+      ValueError: on a shape that does not match the above, or a concrete ``rotation`` or ``root_rotmats``
+        that is not a rotation (a scaled R would stretch the path; skipped under ``jit``).
     """
     rotation, translation = jnp.asarray(rotation), jnp.asarray(translation)
     root_rotmats, root_translation = jnp.asarray(root_rotmats), jnp.asarray(root_translation)
@@ -221,6 +249,8 @@ def transform_root(
         raise _shape_error("root_rotmats", str([*batch, "T", 3, 3]), root_rotmats.shape)
     if root_translation.shape != root_rotmats.shape[:-1]:
         raise _shape_error("root_translation", str(list(root_rotmats.shape[:-1])), root_translation.shape)
+    check_rotations(rotation, where="transform_root: rotation", allow_nonfinite=True)
+    check_rotations(root_rotmats, where="transform_root: root_rotmats", allow_nonfinite=True)
     per_frame = rotation[..., None, :, :]  # the same R for every frame
     new_translation = _matmul(per_frame, root_translation[..., None])[..., 0] + translation[..., None, :]
     return _matmul(per_frame, root_rotmats), new_translation

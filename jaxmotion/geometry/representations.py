@@ -63,11 +63,12 @@ def rotation_features(rotations: jax.Array, translation: jax.Array, rep: str = "
 
 def split_rotation_features(features: jax.Array, rep: str = "rot6d") -> tuple[jax.Array, jax.Array]:
     """Inverse of :func:`rotation_features`: ``[..., T, J + 1, C]`` -> ``(rotations [..., T, J, 3],
-    translation [..., T, 3])``, the translation relative to the origin the features were made with."""
+    translation [..., T, 3])``, the translation relative to the origin the features were made with. Features
+    are what a network produced, not checked as rotations: ``matrix`` rows are projected onto a rotation."""
     channels = int(np.prod(REPRESENTATIONS[rep])) if rep in REPRESENTATIONS else None
     _check("features", features, (channels,), 3, f"[..., T, J + 1, {channels}] for {rep!r}")
     rots = features[..., :-1, :].reshape(*features.shape[:-2], features.shape[-2] - 1, *REPRESENTATIONS[rep])
-    return matrix_to_axis_angle(to_matrix(rots, rep)), features[..., -1, :3]
+    return matrix_to_axis_angle(to_matrix(rots, rep), check=False), features[..., -1, :3]
 
 
 def limb_vectors(joints: jax.Array, parents: tuple[int, ...]) -> jax.Array:

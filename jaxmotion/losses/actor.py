@@ -57,14 +57,16 @@ def kl_to_standard_normal(mu: jax.Array, logvar: jax.Array) -> jax.Array:
 
 def root_centred_joints(x: jax.Array, rep: str, skeleton: Skeleton) -> jax.Array:
     """Joint positions with the root at the origin in every frame, from the rotation rows of ``x
-    [B, T, J + 1, C]``, on ``skeleton``'s rest offsets: ``-> [B, T, J, 3]``."""
+    [B, T, J + 1, C]``, on ``skeleton``'s rest offsets: ``-> [B, T, J, 3]``. With ``rep="matrix"`` the
+    network's raw matrices pose the body as they are (the authors' code does not orthogonalise them)."""
     rotmats = to_matrix(x[:, :, :-1], rep)
-    return forward_kinematics(rotmats, jnp.zeros(x.shape[:2] + (3,), x.dtype), skeleton.offsets, skeleton.parents)
+    return forward_kinematics(rotmats, jnp.zeros(x.shape[:2] + (3,), x.dtype), skeleton.offsets, skeleton.parents,
+                              check=False)
 
 
 def root_centred_vertices(x: jax.Array, rep: str, body: BodyModel) -> jax.Array:
     """Body vertices (mean shape) with the root joint at the origin in every frame: ``-> [B, T, V, 3]``."""
-    vertices, joints = body_forward_rotmats(body, to_matrix(x[:, :, :-1], rep))
+    vertices, joints = body_forward_rotmats(body, to_matrix(x[:, :, :-1], rep), check=False)
     return vertices - joints[..., :1, :]
 
 
