@@ -9,6 +9,7 @@ authors' scripts encode them (NumPy references here), written out, and loaded ba
 import inspect
 import json
 import math
+import re
 import sys
 import warnings
 
@@ -468,6 +469,18 @@ def test_ntu_prepared_malformed_h5_names_file_and_key(tmp_path, h5py, arrays, me
     assert str(path) in str(err.value)
 
 
+@pytest.mark.parametrize("scale, norm", [(0.0, "0"), (1.5, "1.498")])
+def test_ntu_prepared_limb_vectors_that_are_not_unit_vectors_are_refused(tmp_path, h5py, scale, norm):
+    _, stored = ntu_prepared_clip(1, 3, 0)
+    stored[:, 12, 2] *= scale  # joint 12's limb vector at frame 2: collapsed or stretched
+    path = tmp_path / "data1p" / "xsub.train.h5"
+    write_h5(h5py, path, {"S001C001P001R001A001": stored})
+    with pytest.raises(ValueError, match=re.escape(
+            f"{path}: 'S001C001P001R001A001': 1 limb vectors are not unit vectors; the first, person 0, frame 2, "
+            f"joint 12 ({NTU25.joint_names[12]}), has norm {norm}")):
+        load_ntu_prepared(tmp_path)
+
+
 def test_ntu_adjacency_file_is_checked(tmp_path, h5py):
     _, stored = ntu_prepared_clip(1, 3, 0)
     write_h5(h5py, tmp_path / "data1p" / "xsub.train.h5", {"S001C001P001R001A001": stored})
@@ -477,6 +490,12 @@ def test_ntu_adjacency_file_is_checked(tmp_path, h5py):
         load_ntu_prepared(tmp_path)
     write_adjacency(h5py, path, GTA22.parents, np.ones(22))
     with pytest.raises(ValueError, match=r"ntu_adjacency\.h5: 'avglength': expected .* \[25\], got shape \(22,\)"):
+        load_ntu_prepared(tmp_path)
+    collapsed = np.array(NTU_AVGLENGTH)
+    collapsed[7] = 0.0
+    write_adjacency(h5py, path, NTU25.parents, collapsed)
+    with pytest.raises(ValueError, match=r"ntu_adjacency\.h5: 'avglength': expected a positive bone length for every "
+                                         r"joint but the root, got 0\.0 at joint 7 \(left_hand\)"):
         load_ntu_prepared(tmp_path)
     bad = list(NTU25.parents)
     bad[3] = 20

@@ -74,8 +74,9 @@ def load_gta_combat(root: str | Path, split: str = "train", *, persons: int = 2)
     lengths = read_avglength(adjacency, GTA22, "ActFormer's GTA skeleton file (gta_adjacency.h5)")
     path = root / f"gta_combat_{persons}p.h5"
     clips = read_h5_clips(path, f"GTA Combat {persons}P clips", (3 * persons, NUM_JOINTS))
-    vectors = [a.reshape(persons, 3, NUM_JOINTS, -1).transpose(0, 3, 2, 1) for _, a in clips]  # (P, T, V, 3)
-    joints = limb_clips_to_joints(vectors, GTA22.parents, lengths, GTA_TO_LIBRARY)
+    # (3P, V, T) -> (P, T, V, 3)
+    vectors = [(key, a.reshape(persons, 3, NUM_JOINTS, -1).transpose(0, 3, 2, 1)) for key, a in clips]
+    joints = limb_clips_to_joints(vectors, GTA22, lengths, GTA_TO_LIBRARY, file=path)
     motions = [Motion(joints=j, translation=j[..., 0, :], rotations=None, action=0, name=key)
                for (key, _), j in zip(clips, joints)]
     return pack(motions, name=name, split=split, class_names=CLASS_NAMES, skeleton=GTA22, fps=FPS,

@@ -169,8 +169,10 @@ def read_avglength(path: Path, skeleton: Skeleton, what: str) -> np.ndarray:
             raise ValueError(f"{path}: missing key 'avglength' (found: {sorted(f.keys())})")
         lengths = check_array(f["avglength"][()], (j,), file=path, key="'avglength'")
         parent = check_array(f["parent"][()], (j, j), file=path, key="'parent'") if "parent" in f else None
-    if np.any(lengths < 0):
-        raise ValueError(f"{path}: 'avglength': expected bone lengths >= 0, got {lengths.min()}")
+    if np.any(lengths[1:] <= 0):
+        child = 1 + int(np.flatnonzero(lengths[1:] <= 0)[0])
+        raise ValueError(f"{path}: 'avglength': expected a positive bone length for every joint but the root, got "
+                         f"{lengths[child]} at joint {child} ({skeleton.joint_names[child]})")
     if parent is not None:
         for child in range(1, j):
             found = [p for p in np.flatnonzero(parent[:, child] == 1) if p != child]
@@ -180,15 +182,37 @@ def read_avglength(path: Path, skeleton: Skeleton, what: str) -> np.ndarray:
     return lengths
 
 
-def limb_clips_to_joints(clips: list[np.ndarray], parents: tuple[int, ...], lengths: np.ndarray,
-                         to_library: np.ndarray) -> list[np.ndarray]:
-    """Per clip ``[P, T, J, 3]`` root + unit limb vectors in the source frame -> ``[P, T, J, 3]`` float32
-    library-frame joints, rebuilt with ``lengths`` ``[J]``; every frame in one call (one compiled shape)."""
+# A prepared limb vector is d / (|d| + 1e-4): its norm is 1 within 0.05 for every bone of 2 mm or more.
+_UNIT_TOLERANCE = 0.05
+
+
+def _check_unit_limbs(vectors: np.ndarray, key: str, skeleton: Skeleton, file: Path) -> None:
+    """``vectors [P, T, J, 3]``: joint 0 the root position, the others unit limb vectors, else a ``ValueError``
+    naming the file, the clip and the first bad vector (a zero or a long vector builds no skeleton)."""
+    norms = np.linalg.norm(vectors[..., 1:, :], axis=-1)
+    bad = np.abs(norms - 1) > _UNIT_TOLERANCE
+    if bad.any():
+        person, frame, limb = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(
+            f"{file}: {key!r}: {int(bad.sum())} limb vectors are not unit vectors; the first, person {person}, "
+            f"frame {frame}, joint {limb + 1} ({skeleton.joint_names[limb + 1]}), has norm "
+            f"{norms[person, frame, limb]:.4g}: expected ActFormer's prepared (x_c - x_parent) / (|x_c - x_parent| "
+            f"+ 1e-4), of norm 1 within {_UNIT_TOLERANCE} (a bone of 2 mm or more)")
+
+
+def limb_clips_to_joints(clips: list[tuple[str, np.ndarray]], skeleton: Skeleton, lengths: np.ndarray,
+                         to_library: np.ndarray, *, file: Path) -> list[np.ndarray]:
+    """Per clip ``(key, [P, T, J, 3])``, root + unit limb vectors in the source frame, checked -> ``[P, T, J, 3]``
+    float32 library-frame joints, rebuilt with ``lengths`` ``[J]``; every frame in one call (one compiled
+    shape). ``file``, the clips' file, names it in errors."""
     if not clips:
         return []
-    vectors = np.concatenate(clips, axis=1) @ np.asarray(to_library).T  # [P, F, J, 3]
-    joints = np.asarray(joints_from_limb_vectors(vectors.astype(np.float32), parents, lengths.astype(np.float32)))
-    return np.split(joints, np.cumsum([c.shape[1] for c in clips])[:-1], axis=1)
+    for key, vectors in clips:
+        _check_unit_limbs(vectors, key, skeleton, file)
+    vectors = np.concatenate([v for _, v in clips], axis=1) @ np.asarray(to_library).T  # [P, F, J, 3]
+    joints = np.asarray(joints_from_limb_vectors(vectors.astype(np.float32), skeleton.parents,
+                                                 lengths.astype(np.float32)))
+    return np.split(joints, np.cumsum([v.shape[1] for _, v in clips])[:-1], axis=1)
 
 
 def actformer_label(key: str, num_classes: int, *, file: Path) -> int:
@@ -481,8 +505,8 @@ def load_ntu_prepared(root: str | Path, split: str = "train", *, persons: int = 
     clips = read_h5_clips(path, f"ActFormer's prepared NTU {persons}P clips", (3 * persons, NUM_JOINTS))
     records = [(key, actformer_label(key, len(class_names), file=path), key_subject(key)) for key, _ in clips]
     # (3P, V, T) -> (P, T, V, 3)
-    vectors = [a.reshape(persons, 3, NUM_JOINTS, -1).transpose(0, 3, 2, 1) for _, a in clips]
-    joints = limb_clips_to_joints(vectors, NTU25.parents, lengths, KINECT_TO_LIBRARY)
+    vectors = [(key, a.reshape(persons, 3, NUM_JOINTS, -1).transpose(0, 3, 2, 1)) for key, a in clips]
+    joints = limb_clips_to_joints(vectors, NTU25, lengths, KINECT_TO_LIBRARY, file=path)
     return pack(_to_motions(joints, records, persons), name=name, split=split, class_names=class_names,
                 skeleton=NTU25, fps=FPS, persons=persons)
 
