@@ -15,11 +15,19 @@ process. The processes find each other through environment variables, read only 
 * ``JAXMOTION_COORDINATOR``: ``host:port`` of process 0 (any free port),
 * ``JAXMOTION_NUM_PROCESSES``: how many processes take part,
 * ``JAXMOTION_PROCESS_ID``: this process's index, 0 .. N - 1,
-* ``JAXMOTION_LOCAL_DEVICES`` (optional): comma-separated local device ids this process uses.
+* ``JAXMOTION_LOCAL_DEVICES`` (optional): comma-separated local device ids this process uses,
+* ``JAXMOTION_INIT_TIMEOUT`` (optional, default 60): seconds every process waits for all of them to join.
 
 ``JAXMOTION_DISTRIBUTED=auto`` instead lets ``jax.distributed.initialize()`` detect a cluster itself
 (SLURM, Open MPI, Cloud TPU). On CPU the processes exchange data through gloo
 (``jax_cpu_collectives_implementation``), which :func:`initialize_distributed` selects.
+
+Start-up fails fast: the values are checked before anything starts (a ``ValueError`` naming the variable),
+and a process that is not joined by all the others within ``JAXMOTION_INIT_TIMEOUT`` seconds exits with
+status 1 and one line saying which variable to check: ``JAXMOTION_COORDINATOR`` when nothing answers at
+that address, else ``JAXMOTION_NUM_PROCESSES`` and ``JAXMOTION_PROCESS_ID``. (XLA's own deadline, set 30 s
+later, would abort the process with a C++ stack that blames another task.) Two processes with the same id
+make XLA abort at once; the line each process prints before joining names the variables.
 
 Only process 0 writes ``metrics.jsonl`` and prints progress; checkpoints are written by orbax, which
 coordinates the processes itself (each writes its own shards; replicated arrays are written once), so
@@ -28,7 +36,12 @@ the run folder must be on a file system every process sees.
 
 from __future__ import annotations
 
+import functools
 import os
+import socket
+import sys
+import threading
+from collections.abc import Callable
 from typing import Any
 
 import jax
@@ -42,13 +55,18 @@ ENV_NUM_PROCESSES = "JAXMOTION_NUM_PROCESSES"
 ENV_PROCESS_ID = "JAXMOTION_PROCESS_ID"
 ENV_LOCAL_DEVICES = "JAXMOTION_LOCAL_DEVICES"
 ENV_DISTRIBUTED = "JAXMOTION_DISTRIBUTED"
+ENV_INIT_TIMEOUT = "JAXMOTION_INIT_TIMEOUT"
+DEFAULT_INIT_TIMEOUT_S = 60.0
+# XLA aborts (a C++ check failure, not an exception) at its own deadline: ours comes first, with a message.
+_XLA_GRACE_S = 30
 
 
 def initialize_distributed(environ: dict[str, str] | None = None) -> bool:
     """Join a multi-process run when the environment says so (module docstring); True if it did.
 
     Call it first thing in an entry point, before any JAX computation. Without the variables it does
-    nothing, so single-process runs are untouched.
+    nothing, so single-process runs are untouched. A value that cannot be right is a ``ValueError`` naming
+    its variable; a run not joined within the timeout ends the process (module docstring).
     """
     env = os.environ if environ is None else environ
     auto = env.get(ENV_DISTRIBUTED, "").lower() == "auto"
@@ -57,24 +75,95 @@ def initialize_distributed(environ: dict[str, str] | None = None) -> bool:
         return False
     if jax.distributed.is_initialized():
         return True
+    timeout = _number(env, ENV_INIT_TIMEOUT, float, DEFAULT_INIT_TIMEOUT_S)
+    if auto:
+        arguments, who, target = {}, f"{ENV_DISTRIBUTED}=auto: this process", "the cluster it detects"
+        reason = functools.partial(str, f"the cluster's processes did not all join within {timeout:g} s "
+                                        f"({ENV_INIT_TIMEOUT}); check that every task of the job started and that "
+                                        "the cluster is one jax.distributed detects")
+    else:
+        if len(named) != 3:
+            missing = sorted({ENV_COORDINATOR, ENV_NUM_PROCESSES, ENV_PROCESS_ID} - set(named))
+            raise ValueError(f"initialize_distributed: {', '.join(named)} set but {', '.join(missing)} missing; a "
+                             f"multi-process run needs all three (or {ENV_DISTRIBUTED}=auto)")
+        coordinator = _coordinator(env[ENV_COORDINATOR])
+        count = _number(env, ENV_NUM_PROCESSES, int)
+        if count < 1:
+            raise ValueError(f"{ENV_NUM_PROCESSES}: expected 1 or more processes, got {count}")
+        index = _number(env, ENV_PROCESS_ID, int)
+        if not 0 <= index < count:
+            raise ValueError(f"{ENV_PROCESS_ID}: expected 0 to {count - 1} ({ENV_NUM_PROCESSES} is {count}), got "
+                             f"{index}")
+        arguments = dict(coordinator_address=coordinator, num_processes=count, process_id=index,
+                         local_device_ids=_local_devices(env.get(ENV_LOCAL_DEVICES)))
+        who, target = f"process {index} of {count}", f"the coordinator at {coordinator}"
+        reason = functools.partial(_unjoined, coordinator, count, index, timeout)
     # CPU devices of different processes talk through gloo (JAX's CPU default has no cross-process
     # collectives); the setting concerns the CPU backend only, so GPU runs are unaffected.
     jax.config.update("jax_cpu_collectives_implementation", "gloo")
-    if auto:
-        jax.distributed.initialize()
-        return True
-    if len(named) != 3:
-        missing = sorted({ENV_COORDINATOR, ENV_NUM_PROCESSES, ENV_PROCESS_ID} - set(named))
-        raise ValueError(f"initialize_distributed: {', '.join(named)} set but {', '.join(missing)} missing; a "
-                         f"multi-process run needs all three (or {ENV_DISTRIBUTED}=auto)")
-    local = env.get(ENV_LOCAL_DEVICES)
-    jax.distributed.initialize(
-        coordinator_address=env[ENV_COORDINATOR],
-        num_processes=int(env[ENV_NUM_PROCESSES]),
-        process_id=int(env[ENV_PROCESS_ID]),
-        local_device_ids=[int(i) for i in local.split(",")] if local else None,
-    )
+    print(f"[distributed] {who} joining {target} (timeout {timeout:g} s)", file=sys.stderr, flush=True)
+    watchdog = threading.Timer(timeout, _give_up, args=(who, reason))
+    watchdog.daemon = True
+    watchdog.start()
+    try:
+        jax.distributed.initialize(**arguments, initialization_timeout=int(timeout) + _XLA_GRACE_S)
+    finally:
+        watchdog.cancel()
     return True
+
+
+def _give_up(who: str, reason: Callable[[], str]) -> None:
+    """The watchdog's end of a start-up that hangs in XLA (which holds no Python frame to raise into)."""
+    print(f"initialize_distributed: {who}: {reason()}", file=sys.stderr, flush=True)
+    os._exit(1)
+
+
+def _unjoined(coordinator: str, count: int, index: int, timeout: float) -> str:
+    """Why the processes did not all join: nothing at the coordinator's address, or a count or an id."""
+    host, port = coordinator.rsplit(":", 1)
+    if index != 0:  # process 0 serves the address itself
+        try:
+            socket.create_connection((host.strip("[]"), int(port)), timeout=2).close()
+        except OSError as err:
+            return (f"nothing answers at {ENV_COORDINATOR}={coordinator} after {timeout:g} s ({err}); check that "
+                    "process 0 is running and that this is its host and a port this machine can reach")
+    return (f"not all {count} processes joined the coordinator at {coordinator} within {timeout:g} s "
+            f"({ENV_INIT_TIMEOUT}); check {ENV_NUM_PROCESSES} (the same in every process, and that many started) "
+            f"and {ENV_PROCESS_ID} (each of 0 .. {count - 1} exactly once)")
+
+
+def _number(env, name: str, kind: type, default=None):
+    """``env[name]`` as ``kind`` (positive where a float: a timeout), ``default`` when unset or empty."""
+    raw = env.get(name, "")
+    if not raw.strip():
+        return default
+    try:
+        value = kind(raw)
+    except ValueError:
+        raise ValueError(f"{name}: expected {'an integer' if kind is int else 'a number of seconds'}, got {raw!r}") \
+            from None
+    if kind is float and not 0 < value < float("inf"):
+        raise ValueError(f"{name}: expected a positive number of seconds, got {raw!r}")
+    return value
+
+
+def _coordinator(raw: str) -> str:
+    """``host:port`` with a port in 1 .. 65535, else a ``ValueError`` naming the variable."""
+    host, _, port = raw.strip().rpartition(":")
+    if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise ValueError(f"{ENV_COORDINATOR}: expected host:port of process 0 (a port in 1 .. 65535), got {raw!r}")
+    return f"{host}:{int(port)}"
+
+
+def _local_devices(raw: str | None) -> list[int] | None:
+    """Comma-separated device ids ``>= 0``, each once; None when unset."""
+    if not raw:
+        return None
+    items = [item.strip() for item in raw.split(",")]
+    if not all(item.isdigit() for item in items) or len(set(items)) != len(items):
+        raise ValueError(f"{ENV_LOCAL_DEVICES}: expected comma-separated device ids (integers >= 0, each once), "
+                         f"got {raw!r}")
+    return [int(item) for item in items]
 
 
 def data_mesh(devices: int | None = None) -> Mesh:

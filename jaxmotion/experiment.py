@@ -281,6 +281,11 @@ def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]], claims: Sequence[
     return {"seeds": seeds, "rows": rows, "claims": check_all(claims, rows)}
 
 
+# What the library's checks raise on input it refuses (data, files, folders, values): the command line prints
+# their message alone; anything else is a fault and keeps its traceback.
+CHECK_ERRORS = (ValueError, FileNotFoundError)
+
+
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
          description: str | None = None, claims: Sequence[Claim] = (), exports: bool = False) -> dict[str, Any]:
     """The command line every experiment shares; returns the final metrics (summary for several seeds).
@@ -307,7 +312,10 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
     if args.print_config:
         print(text)
         return {}
-    initialize_distributed()  # joins a multi-process run when its environment variables are set
+    try:
+        initialize_distributed()  # joins a multi-process run when its environment variables are set
+    except ValueError as err:  # a variable that cannot be right, named
+        raise SystemExit(f"{name}: {err}") from None
     if args.devices is not None and args.devices > jax.device_count():
         raise SystemExit(f"--devices: expected 1 to {jax.device_count()} (the devices JAX sees), got {args.devices}")
     out = Path(args.out)
@@ -321,6 +329,11 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
                                       export_formats=formats, devices=args.devices)
         except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
+        except CHECK_ERRORS as err:
+            if args.traceback:
+                raise
+            raise SystemExit(f"{name}: seed {seed}: {type(err).__name__}: {err}\n(--traceback shows where it was "
+                             "raised)") from None
     if len(seeds) == 1:
         result = per_seed[seeds[0]]
         print(format_table(_table_cells(result), title=f"{name} ({args.profile}, seed {seeds[0]})")
@@ -369,6 +382,9 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
                    help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
                         "under <seed folder>/export/")
     p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
+    p.add_argument("--traceback", action="store_true",
+                   help="on an error a check raised (bad data, a folder that does not fit), show the whole "
+                        "traceback instead of the message alone")
     return p
 
 

@@ -133,6 +133,24 @@ def test_every_bad_command_line_value_is_a_one_line_exit(args, message):
     assert str(exit_.value).startswith(message) and "\n" not in str(exit_.value)
 
 
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # orbax's reads, abandoned
+def test_a_check_failing_inside_a_run_is_a_one_line_exit_with_the_traceback_on_request(tmp_path, monkeypatch):
+    """A seed to evaluate again whose checkpoints hold another model (here: one unit wider)."""
+    _run_toy(tmp_path)
+    (_seed_dir(tmp_path) / "metrics.json").unlink()
+    narrow = toy_experiment.MLP
+    monkeypatch.setattr(toy_experiment, "MLP", lambda hidden: narrow(hidden + 1))
+    folder = _seed_dir(tmp_path) / "checkpoints"
+    with pytest.raises(SystemExit) as exit_:
+        _run_toy(tmp_path)
+    message = str(exit_.value)
+    assert message.startswith(f"toy: seed 0: ValueError: no checkpoint in {folder} could be restored")
+    assert f"delete {folder} to train this one from the start" in message
+    assert message.endswith("\n(--traceback shows where it was raised)") and message.count("\n") == 1
+    with pytest.raises(ValueError, match="no checkpoint in .* could be restored"):
+        _run_toy(tmp_path, "--traceback")
+
+
 def test_help_examples_are_real_overrides_of_the_experiment(capsys):
     with pytest.raises(SystemExit):
         toy_experiment.main(["--help"])

@@ -138,6 +138,10 @@ def test_trajectory_table_refuses_an_evaluator_of_other_classes(tmp_path, monkey
         return SimpleNamespace(num_classes=40), None
 
     monkeypatch.setattr(odmo_trajectory, "trained_recognizer", uestc_recognizer)
-    with pytest.raises(ValueError, match="evaluator: it recognises 40 classes, but the real set 'train'"):
-        odmo_trajectory.main(["--profile", "smoke", "--out", str(tmp_path), "--set",
-                              "tables.humanact12.evaluator.dataset=synth-uestc"])
+    argv = ["--profile", "smoke", "--out", str(tmp_path), "--set", "tables.humanact12.evaluator.dataset=synth-uestc"]
+    message = "evaluator: it recognises 40 classes, but the real set 'train'"
+    # The command line prints the check's message alone, and the traceback on request.
+    with pytest.raises(SystemExit, match=rf"^odmo_trajectory: seed 0: ValueError: .*{message}.*\n\(--traceback "):
+        odmo_trajectory.main(argv)
+    with pytest.raises(ValueError, match=message):
+        odmo_trajectory.main([*argv, "--traceback"])

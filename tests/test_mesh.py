@@ -5,6 +5,7 @@ Multi-device runs are subprocesses with ``XLA_FLAGS=--xla_force_host_platform_de
 fixes its device count when JAX starts); they share this session's compilation cache.
 """
 
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -32,6 +33,48 @@ def test_distributed_set_up_is_a_no_op_without_its_variables():
 def test_distributed_set_up_names_the_missing_variables():
     with pytest.raises(ValueError, match="JAXMOTION_NUM_PROCESSES, JAXMOTION_PROCESS_ID missing"):
         initialize_distributed({"JAXMOTION_COORDINATOR": "127.0.0.1:1234"})
+
+
+@pytest.mark.parametrize("variables, message", [
+    ({"JAXMOTION_COORDINATOR": "127.0.0.1"}, "JAXMOTION_COORDINATOR: expected host:port of process 0"),
+    ({"JAXMOTION_COORDINATOR": "127.0.0.1:70000"}, "JAXMOTION_COORDINATOR: .*a port in 1 .. 65535"),
+    ({"JAXMOTION_NUM_PROCESSES": "two"}, "JAXMOTION_NUM_PROCESSES: expected an integer, got 'two'"),
+    ({"JAXMOTION_NUM_PROCESSES": "0"}, "JAXMOTION_NUM_PROCESSES: expected 1 or more processes, got 0"),
+    ({"JAXMOTION_PROCESS_ID": "2"}, r"JAXMOTION_PROCESS_ID: expected 0 to 1 \(JAXMOTION_NUM_PROCESSES is 2\), got 2"),
+    ({"JAXMOTION_LOCAL_DEVICES": "0,0"}, "JAXMOTION_LOCAL_DEVICES: expected comma-separated device ids"),
+    ({"JAXMOTION_INIT_TIMEOUT": "-5"}, "JAXMOTION_INIT_TIMEOUT: expected a positive number of seconds"),
+])
+def test_distributed_set_up_names_the_variable_that_cannot_be_right(variables, message):
+    env = {"JAXMOTION_COORDINATOR": "127.0.0.1:1234", "JAXMOTION_NUM_PROCESSES": "2", "JAXMOTION_PROCESS_ID": "1",
+           **variables}
+    with pytest.raises(ValueError, match=message):
+        initialize_distributed(env)
+
+
+def _free_port():
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def test_a_process_not_joined_in_time_exits_naming_the_variable_to_check():
+    """Process 1 with nothing at the coordinator's address, and a process 0 waiting for a second process that
+    never starts: each exits with status 1 and one line after JAXMOTION_INIT_TIMEOUT (XLA alone would wait
+    300 s, then abort blaming another task)."""
+    code = "from jaxmotion.distributed import initialize_distributed; initialize_distributed()"
+    procs = {
+        index: subprocess.Popen([sys.executable, "-c", code], stderr=subprocess.PIPE, text=True,
+                                env=actor_mesh_run.subprocess_env(1, JAXMOTION_COORDINATOR=f"127.0.0.1:{_free_port()}",
+                                                                  JAXMOTION_NUM_PROCESSES="2",
+                                                                  JAXMOTION_PROCESS_ID=str(index),
+                                                                  JAXMOTION_INIT_TIMEOUT="2"))
+        for index in (0, 1)}
+    errors = {index: proc.communicate(timeout=60)[1] for index, proc in procs.items()}
+    assert [procs[i].returncode for i in (0, 1)] == [1, 1], errors
+    assert "process 1 of 2: nothing answers at JAXMOTION_COORDINATOR=127.0.0.1:" in errors[1]
+    assert "process 0 of 2: not all 2 processes joined the coordinator" in errors[0]
+    assert "check JAXMOTION_NUM_PROCESSES (the same in every process" in errors[0]
+    assert all("Check failure" not in text for text in errors.values())
 
 
 @pytest.mark.integration
