@@ -281,9 +281,10 @@ def aggregate_seeds(per_seed: Mapping[int, Mapping[str, Any]], claims: Sequence[
     return {"seeds": seeds, "rows": rows, "claims": check_all(claims, rows)}
 
 
-# What the library's checks raise on input it refuses (data, files, folders, values): the command line prints
-# their message alone; anything else is a fault and keeps its traceback.
-CHECK_ERRORS = (ValueError, FileNotFoundError)
+# What the library's checks raise on input it refuses (data, files, folders, values) and on a missing optional
+# extra (an ImportError naming it): the command line prints their message alone; anything else is a fault and
+# keeps its traceback.
+CHECK_ERRORS = (ValueError, FileNotFoundError, ImportError)
 
 
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,

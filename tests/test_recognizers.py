@@ -45,6 +45,14 @@ def _untrained(config):
     return Recognizer(config, SMPL24, tuple(f"class {i}" for i in range(12)), variables)
 
 
+def test_scoring_a_dataset_of_other_classes_is_refused():
+    """A 12-class evaluator on UESTC's 40 classes would give a plausible accuracy near 0 without a word."""
+    with pytest.raises(ValueError, match=r"evaluator: it recognises 12 classes, but the real set 'train' "
+                                         r"\(synth-uestc\) has 40"):
+        recognizers.evaluate_recognizer(_untrained(SMALL_GRU), load_dataset("synth-uestc", count=40),
+                                        jax.random.key(0), window=30)
+
+
 def _turn_and_move(motions, angle, shift):
     """The same motions, turned about the vertical by ``angle`` and moved by ``shift`` (a new placement)."""
     c, s = np.cos(angle), np.sin(angle)
@@ -220,6 +228,14 @@ def test_recognition_experiment_smoke_writes_its_table(tmp_path, monkeypatch):
     assert row["held-out accuracy (%)"] == 100 * record["held_out"]["accuracy"]  # the cached evaluator's
     assert row["held-out clips"] == record["held_out"]["clips"] == evaluator_spec("synth-cmu/gru", "smoke").test_count
     assert (tmp_path / "out" / "recognition" / "smoke" / "seed-0" / "table.md").exists()
+    # The same run with its evaluator cached and another one the config names beside it: the same metrics.json,
+    # byte for byte (it records the evaluators the run used, nothing read from other cache entries).
+    other = cache_folder(evaluator_spec("synth-humanact12/gru", "smoke"), tmp_path / "cache")
+    other.mkdir(parents=True)
+    (other / "recognizer.json").write_text(json.dumps({**record, "held_out": {**record["held_out"], "accuracy": 0.5}}))
+    recognition.main(["--profile", "smoke", "--out", str(tmp_path / "again"), "--set", 'only=["synth-cmu/gru"]'])
+    assert ((tmp_path / "again" / "recognition" / "smoke" / "seed-0" / "metrics.json").read_bytes()
+            == (tmp_path / "out" / "recognition" / "smoke" / "seed-0" / "metrics.json").read_bytes())
 
 
 @pytest.fixture(scope="module")

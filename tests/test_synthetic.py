@@ -168,6 +168,18 @@ def test_unknown_variant_lists_valid_names():
         synthetic.generate(NAME, "test")
 
 
+@pytest.mark.parametrize("args, message", [
+    (["synth-nothing"], "jaxmotion.data.preview: unknown synthetic variant 'synth-nothing'"),
+    (["synth-humanact12", "--count", "12", "--classes", "0,12"],
+     r"jaxmotion.data.preview: classes: expected class indices of synth-humanact12 in \[0, 12\), got \[12\]"),
+])
+def test_preview_command_refuses_what_it_cannot_draw_in_one_line(tmp_path, args, message):
+    from jaxmotion.data import preview
+
+    with pytest.raises(SystemExit, match=message):
+        preview.main([*args, "--png", "--out", str(tmp_path / "grid.png")])
+
+
 def test_preview_renders_a_still_grid_a_gif_and_a_filmstrip(tmp_path):
     from jaxmotion.data import preview
 

@@ -222,6 +222,11 @@ def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
         raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
     if spec.permute_persons and dataset.persons < 2:
         raise ValueError(f"permute_persons: {dataset.name}/{dataset.split} has one person per sequence")
+    longest = int(np.max(dataset.lengths))
+    if spec.window > longest:
+        raise ValueError(f"window: {spec.window} frames is longer than every clip of {dataset.name}/{dataset.split} "
+                         f"(the longest has {longest}): every window would be mostly padding; choose at most "
+                         f"{longest}")
     frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
     if dataset.rotations is not None:
         frames_of["rotations"] = jnp.asarray(dataset.rotations)

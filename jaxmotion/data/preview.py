@@ -118,6 +118,9 @@ def filmstrip(motion: Motion, skeleton: Skeleton, path: str, *, frames: int = 8,
 
 def _examples(data: MotionDataset, classes: Sequence[int]) -> list[list[tuple[int, int, Motion | None]]]:
     """For each class, one motion per mode (the first of that mode), or None where the mode is missing."""
+    outside = [c for c in classes if not 0 <= c < data.num_classes]
+    if outside:
+        raise ValueError(f"classes: expected class indices of {data.name} in [0, {data.num_classes}), got {outside}")
     rows = []
     for c in classes:
         modes = data.mode_names[c] if data.mode_names else ("",)
@@ -224,10 +227,16 @@ def main(argv: Sequence[str] | None = None) -> None:
 
     from jaxmotion.data import synthetic
 
-    data = synthetic.generate(args.dataset, "train", seed=args.seed, count=args.count) if args.count else \
-        synthetic.load(args.dataset, "train", seed=args.seed)
-    classes = [int(c) for c in args.classes.split(",")]
-    render_grid(data, classes, args.out, still=args.png)
+    try:
+        classes = [int(c) for c in args.classes.split(",")]
+    except ValueError:
+        parser.error(f"--classes: expected comma-separated class indices, got {args.classes!r}")
+    try:
+        data = synthetic.generate(args.dataset, "train", seed=args.seed, count=args.count) if args.count else \
+            synthetic.load(args.dataset, "train", seed=args.seed)
+        render_grid(data, classes, args.out, still=args.png)
+    except (ValueError, FileNotFoundError) as err:  # what the checks raise: one line, as an experiment's
+        raise SystemExit(f"jaxmotion.data.preview: {err}") from None
     print(f"wrote {args.out}")
 
 

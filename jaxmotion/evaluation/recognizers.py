@@ -39,6 +39,7 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import SKELETONS, MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, epoch_windows
+from jaxmotion.evaluation.protocol import check_evaluator
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.metrics.classification import accuracy, confusion_matrix
 from jaxmotion.models.recognition import (
@@ -223,7 +224,9 @@ def _recognizer(spec: RecognizerTraining, skeleton: Skeleton, class_names: tuple
 
 def evaluate_recognizer(recognizer: Recognizer, data: MotionDataset, key: jax.Array, *, window: int,
                         count: int | None = None) -> dict[str, Any]:
-    """Accuracy and confusion matrix on one window of each of ``count`` random clips of ``data``."""
+    """Accuracy and confusion matrix on one window of each of ``count`` random clips of ``data``, which must
+    have the recogniser's classes (:func:`~jaxmotion.evaluation.protocol.check_evaluator`)."""
+    check_evaluator(recognizer, {data.split: data})
     count = len(data) if count is None else min(count, len(data))
     windows = epoch_windows(data, key, BatchSpec(batch_size=1, window=window, canonical=recognizer.config.canonical),
                             count)

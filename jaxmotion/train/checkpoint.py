@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import jax
+import numpy as np
 import orbax.checkpoint as ocp
 
 TMP_MARK = ".orbax-checkpoint-tmp"  # orbax writes a step to <step>.orbax-checkpoint-tmp-<n>, then renames it
@@ -106,10 +107,11 @@ class Checkpointer:
                       f"{_first_line(errors[0][1])}); moved them to {self._damaged} and starting over from step 0",
                       file=sys.stderr)
             raise CheckpointsDamaged(f"every checkpoint in {self.directory} was damaged and set aside")
+        saved = self._manager.restore(steps[0], args=ocp.args.StandardRestore(None))
         raise ValueError(f"no checkpoint in {self.directory} could be restored into this state; the latest (step "
-                         f"{steps[0]}): {_first_line(errors[0][1])}. They can be read, so they hold another state "
-                         f"(another model, optimiser or config); delete {self.directory} to train this one from "
-                         f"the start") from errors[0][1]
+                         f"{steps[0]}) differs: {_difference(saved, like) or _first_line(errors[0][1])}. They can be "
+                         f"read, so they hold another state (another model, optimiser or config); delete "
+                         f"{self.directory} to train this one from the start") from errors[0][1]
 
     def _readable(self, step: int) -> bool:
         """Whether the checkpoint of ``step`` can be read as it was saved (with no state to fit)."""
@@ -147,6 +149,30 @@ class Checkpointer:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _leaves(tree: Any) -> dict[str, tuple[tuple[int, ...], str]]:
+    """``path -> (shape, dtype)`` of every array leaf, the path spelled alike for a state and a raw restore."""
+    def name(key):
+        return str(getattr(key, "name", getattr(key, "key", getattr(key, "idx", key))))
+    leaves = {}
+    for path, leaf in jax.tree_util.tree_flatten_with_path(tree)[0]:
+        dtype = getattr(leaf, "dtype", None) or jax.dtypes.canonicalize_dtype(np.result_type(leaf))  # a Python int
+        if not jax.dtypes.issubdtype(dtype, jax.dtypes.prng_key):  # saved as raw bits: not comparable
+            leaves["/".join(name(k) for k in path)] = (tuple(np.shape(leaf)), str(dtype))
+    return leaves
+
+
+def _difference(saved: Any, like: Any) -> str:
+    """What first differs between a checkpoint's arrays and a state's, and how many differ; "" if nothing."""
+    have, want = _leaves(saved), _leaves(like)
+    notes = [f"this state has {path} {list(want[path][0])}, the checkpoint none" for path in want if path not in have]
+    notes += [f"the checkpoint has {path} {list(have[path][0])}, this state none" for path in have if path not in want]
+    notes += [f"{path} is {list(have[path][0])} {have[path][1]} there, {list(want[path][0])} {want[path][1]} here"
+              for path in want if path in have and have[path] != want[path]]
+    if not notes:
+        return ""
+    return notes[0] + (f" (and {len(notes) - 1} more arrays differ)" if len(notes) > 1 else "")
 
 
 def _first_line(error: BaseException) -> str:
