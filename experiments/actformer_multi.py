@@ -37,7 +37,7 @@ import dataclasses
 from collections.abc import Mapping
 
 from jaxmotion import experiment
-from jaxmotion.config import FrozenMap
+from jaxmotion.config import FrozenMap, check_at_least
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import ACTFORMER_COLUMNS, COMBAT_COLUMNS, TableDataset, interleave_reported, slug
 from jaxmotion.recipes.tables import DatasetTable, actformer_table, run_tables, table_key
@@ -87,6 +87,9 @@ class ActFormerMultiConfig(experiment.ProfileConfig):
     combat: Mapping[str, DatasetTable]  # GTA Combat, one table per person count (combat2p ...): CSGN and ActFormer
     picture_actions: tuple[int, ...] = (0, 5, 8)  # NTU-2P's rows in its picture: punching, hugging, handshaking
     picture_samples: int = 3  # generated scenes per row (combat: one row, its only class)
+
+    def __post_init__(self):
+        check_at_least(self, 1, "picture_samples")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActFormerMultiConfig:

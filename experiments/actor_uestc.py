@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 
 from jaxmotion import experiment
+from jaxmotion.config import check_at_least
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import TableDataset, paper_columns, real_sets, score_rows, table_evaluator
 from jaxmotion.recipes.tables import fit_generator, table_dataset
@@ -53,6 +54,9 @@ class ActorUestcConfig(experiment.ProfileConfig):
     training: ActorTraining
     table: TableDataset  # synth-uestc, the UESTC ST-GCN evaluator, the protocol
     picture_actions: int = 6  # actions shown in generated.gif, 3 samples each
+
+    def __post_init__(self):
+        check_at_least(self, 1, "picture_actions")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorUestcConfig:

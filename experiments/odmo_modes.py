@@ -41,7 +41,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion import experiment
-from jaxmotion.config import FrozenMap
+from jaxmotion.config import FrozenMap, check_at_least
 from jaxmotion.data.motion import Motion
 from jaxmotion.data.pipeline import BatchSpec, class_windows, map_in_chunks
 from jaxmotion.data.preview import filmstrip
@@ -76,6 +76,10 @@ class ModesTable:
     per_class: int
     repetitions: int
     figure_class: int = 0
+
+    def __post_init__(self):
+        check_at_least(self, 1, "per_class", "repetitions")
+        check_at_least(self, 0, "figure_class")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -40,7 +40,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion import experiment
-from jaxmotion.config import FrozenMap
+from jaxmotion.config import FrozenMap, check_at_least
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.protocol import check_evaluator
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
@@ -79,6 +79,9 @@ class TrajectoryTable:
     trials: int = 40
     points: int = 10
     repetitions: int = 10
+
+    def __post_init__(self):
+        check_at_least(self, 1, "trials", "points", "repetitions")
 
 
 def ablations(odmo: ODMORecipe) -> dict[str, ODMORecipe]:

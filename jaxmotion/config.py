@@ -90,6 +90,15 @@ def check_seed(value: Any, where: str) -> int:
     return value
 
 
+def check_at_least(config: Any, minimum: int, *names: str) -> None:
+    """For a config's ``__post_init__``: a ``ValueError`` naming the first of the fields ``names`` whose value is
+    below ``minimum`` (counts and sizes 1, indices 0); ``None``, an unset optional field, passes."""
+    for name in names:
+        value = getattr(config, name)
+        if value is not None and value < minimum:
+            raise ValueError(f"{type(config).__name__}.{name}: expected >= {minimum}, got {value}")
+
+
 def field_paths(config: Any, prefix: str = "") -> list[str]:
     """Every overridable leaf of a config, as dotted paths (``train.steps``), under ``prefix`` if given.
 

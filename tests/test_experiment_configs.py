@@ -43,3 +43,14 @@ def test_help_lists_the_config_fields_and_real_examples(name, capsys):
     text = capsys.readouterr().out
     assert "FACTS" not in text and "shared/" not in text  # files outside the repository
     assert all(f"\n  {path}\n" in text for path in cfglib.field_paths(_config_class(name))[:3])
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_no_integer_field_takes_a_negative_value(name):
+    """Counts, sizes, steps, indices and seeds are all >= 0 (most >= 1): -1 anywhere is an error naming the path
+    being set, before anything runs, not a value some later step wraps, clips or loops over zero times."""
+    config = _config_class(name).smoke()
+    for path, value in cfglib.flatten(json.loads(cfglib.to_json(config))).items():
+        if isinstance(value, int) and not isinstance(value, bool):
+            with pytest.raises(cfglib.ConfigError, match=f"'?{path}'?"):
+                cfglib.apply_overrides(config, [f"{path}=-1"])

@@ -101,9 +101,9 @@ class RecognizerTraining:
             raise ValueError(f"RecognizerTraining.trains_on: expected 'train' or 'held_out', got {self.trains_on!r}")
         if self.optimizer not in ("adam", "sgd"):
             raise ValueError(f"RecognizerTraining.optimizer: expected 'adam' or 'sgd', got {self.optimizer!r}")
-        if self.loop.steps < 1 or self.batch_size < 1 or self.window < 1:
-            raise ValueError(f"RecognizerTraining: loop.steps, batch_size and window must be >= 1 "
-                             f"(got {self.loop.steps}, {self.batch_size}, {self.window})")
+        if self.loop.steps < 1:
+            raise ValueError(f"RecognizerTraining.loop.steps: expected >= 1, got {self.loop.steps}")
+        cfglib.check_at_least(self, 1, "batch_size", "window", "count", "test_count")
         if self.input_noise < 0:
             raise ValueError(f"RecognizerTraining.input_noise must be >= 0, got {self.input_noise}")
 

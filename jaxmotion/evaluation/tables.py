@@ -24,6 +24,7 @@ import jax
 import numpy as np
 from jax.sharding import Mesh
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import check_dataset_name, load_dataset, paper_dataset
 from jaxmotion.data.motion import MotionDataset
@@ -62,6 +63,7 @@ class TableData:
 
     def __post_init__(self):
         check_dataset_name(self.name, "TableData.name")
+        check_at_least(self, 1, "count")
         variant = synthetic.VARIANTS.get(self.name)
         if self.test_split and variant is not None and "test" not in variant.splits:
             raise ValueError(f"TableData.test_split: {self.name} has no test split; set test_split=False")

@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.config import check_at_least
 from jaxmotion.distributed import replicate
 from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.representations import actformer_features
@@ -160,8 +161,8 @@ class RecognizerConfig:
         if len(self.channels) != len(self.strides) or not self.channels:
             raise ValueError(f"RecognizerConfig: channels ({len(self.channels)}) and strides "
                              f"({len(self.strides)}) need one entry per ST-GCN block")
-        if min(self.hidden, self.layers, self.feature_dim, self.temporal_kernel) < 1:
-            raise ValueError("RecognizerConfig: hidden, layers, feature_dim and temporal_kernel must be >= 1")
+        check_at_least(self, 1, "hidden", "layers", "feature_dim", "temporal_kernel")
+        check_at_least(self, 0, "graph_center")
 
     @classmethod
     def a2m_gru(cls) -> RecognizerConfig:

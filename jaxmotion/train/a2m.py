@@ -26,6 +26,7 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec
 from jaxmotion.models.a2m import (
@@ -56,8 +57,7 @@ class A2MTraining:
     canonical: bool = True
 
     def __post_init__(self):
-        if self.batch_size < 1 or self.window < 1:
-            raise ValueError(f"A2MTraining: batch_size and window must be >= 1, got {self.batch_size}, {self.window}")
+        check_at_least(self, 1, "batch_size", "window")
 
     @property
     def batch(self) -> BatchSpec:

@@ -40,6 +40,7 @@ import jax
 import jax.numpy as jnp
 import optax
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, Sampling
 from jaxmotion.geometry.representations import actformer_features
@@ -73,9 +74,7 @@ class ActFormerTraining:
     critic_pooling: Literal["concat", "avg", "max", "attention"] = "concat"
 
     def __post_init__(self):
-        if self.n_critic < 1 or self.batch_size < 1:
-            raise ValueError(f"ActFormerTraining: n_critic and batch_size must be >= 1, got {self.n_critic}, "
-                             f"{self.batch_size}")
+        check_at_least(self, 1, "critic_base_channels", "n_critic", "batch_size")
         if self.loss not in ("hinge", "wgan") or self.prior not in ("gp", "gaussian"):
             raise ValueError(f"ActFormerTraining: loss {self.loss!r} / prior {self.prior!r} unknown")
         if self.permute_persons and self.generator.persons < 2:

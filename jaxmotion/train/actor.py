@@ -17,6 +17,7 @@ from pathlib import Path
 import jax
 import optax
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec
 from jaxmotion.geometry.body import BodyModel
@@ -45,6 +46,9 @@ class ActorTraining:
     learning_rate: float = 1e-4
     weight_decay: float = 0.01
     canonical: bool = True
+
+    def __post_init__(self):
+        check_at_least(self, 1, "batch_size", "window", "min_length")
 
     @property
     def batch(self) -> BatchSpec:
