@@ -214,7 +214,7 @@ def test_config_names_the_field_for_unknown_architectures_and_misplaced_switches
         ActorConfig(num_classes=3, architecture="lstm")
     with pytest.raises(ValueError, match=r"ActorConfig.distribution_tokens / bias_token: .* 'gru'"):
         ActorConfig(num_classes=3, architecture="gru", bias_token=False)
-    with pytest.raises(ValueError, match=r"ActorConfig.frames must be >= 1"):
+    with pytest.raises(ValueError, match=r"ActorConfig.frames: expected >= 1"):
         ActorConfig(num_classes=3, architecture="fc", frames=0)
     ActorConfig(num_classes=3, width=10, architecture="gru")  # heads must divide width for attention only
 

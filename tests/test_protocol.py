@@ -231,7 +231,7 @@ def test_actformer_protocol_settings_are_checked():
         ProtocolConfig(reference="tiles")
     with pytest.raises(ValueError, match=r"ProtocolConfig.accuracy: expected one of"):
         ProtocolConfig(accuracy="balanced")
-    with pytest.raises(ValueError, match="reference_window must be >= 1"):
+    with pytest.raises(ValueError, match="reference_window: expected >= 1"):
         ProtocolConfig(reference_window=0)
 
 

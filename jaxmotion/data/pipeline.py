@@ -28,6 +28,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.distributed import DATA_AXIS, gather, shard_batch
 from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
@@ -207,8 +208,7 @@ class BatchSpec:
     permute_persons: bool = False
 
     def __post_init__(self):
-        if self.batch_size < 1 or self.window < 1:
-            raise ValueError(f"BatchSpec: batch_size and window must be >= 1, got {self.batch_size}, {self.window}")
+        check_at_least(self, 1, "batch_size", "window")
         if self.min_length is not None and not 1 <= self.min_length <= self.window:
             raise ValueError(f"BatchSpec.min_length must be in [1, window={self.window}], got {self.min_length}")
 

@@ -49,6 +49,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.distributed import replicate
 from jaxmotion.data.pipeline import BatchSpec, class_windows, epoch_windows, map_in_chunks, tiled_windows
@@ -92,10 +93,8 @@ class ProtocolConfig:
     reference_window: int = 64
 
     def __post_init__(self):
-        for name in ("repetitions", "max_real", "per_class", "duration", "diversity_pairs", "multimodality_pairs",
-                     "chunk", "reference_window"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"ProtocolConfig.{name} must be >= 1, got {getattr(self, name)}")
+        check_at_least(self, 1, "repetitions", "max_real", "per_class", "duration", "diversity_pairs",
+                       "multimodality_pairs", "chunk", "reference_window")
         for name, allowed in (("sampling", ("per_real_clip", "per_class")), ("accuracy", ("overall", "class_mean")),
                               ("reference", ("draw", "tiles"))):
             if getattr(self, name) not in allowed:

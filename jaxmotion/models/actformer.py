@@ -46,6 +46,7 @@ from typing import Literal, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.config import check_at_least
 from jaxmotion.nn.core import LayerNormParams, LinearParams, init_linear, layer_norm, linear
 from jaxmotion.nn.gp_prior import CHANNELS
 from jaxmotion.nn.spectral_norm import SpectralState, init_spectral_state, spectral_normalize
@@ -81,10 +82,8 @@ class GeneratorConfig:
     interaction: Literal["iformer", "concat"] = "iformer"
 
     def __post_init__(self):
-        for name in ("num_classes", "joints", "channels", "persons", "frames", "latent", "width_per_joint",
-                     "depth", "heads"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"GeneratorConfig.{name}: expected >= 1, got {getattr(self, name)}")
+        check_at_least(self, 1, "num_classes", "joints", "channels", "persons", "frames", "latent", "width_per_joint",
+                       "depth", "heads")
         if self.width % self.heads:
             raise ValueError(f"GeneratorConfig.heads: must divide the width {self.width} (= width_per_joint · joints)")
         if self.output == "skeleton" and self.channels != 3:

@@ -39,6 +39,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.config import check_at_least
 from jaxmotion.nn.core import LinearParams, init_linear, linear, torch_uniform
 from jaxmotion.nn.spectral_norm import SpectralState, init_spectral_state, spectral_normalize
 
@@ -71,9 +72,7 @@ class CriticConfig:
     pooling: Literal["concat", "avg", "max", "attention"] = "concat"
 
     def __post_init__(self):
-        for name in ("num_classes", "joints", "channels", "base_channels", "time_kernel"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"CriticConfig.{name}: expected >= 1, got {getattr(self, name)}")
+        check_at_least(self, 1, "num_classes", "joints", "channels", "base_channels", "time_kernel")
         if self.pooling not in ("concat", "avg", "max", "attention"):
             raise ValueError(f"CriticConfig.pooling: expected concat, avg, max or attention, got {self.pooling!r}")
 

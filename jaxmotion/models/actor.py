@@ -58,6 +58,7 @@ from typing import Literal, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from jaxmotion.config import check_at_least
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.representations import rotation_features, split_rotation_features
 from jaxmotion.geometry.rotations import REPRESENTATIONS, axis_angle_to_matrix
@@ -120,9 +121,7 @@ class ActorConfig:
     def __post_init__(self):
         if self.architecture not in ARCHITECTURES:
             raise ValueError(f"ActorConfig.architecture: expected one of {ARCHITECTURES}, got {self.architecture!r}")
-        for name in ("num_classes", "num_joints", "width", "ff", "layers", "heads", "frames"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"ActorConfig.{name} must be >= 1, got {getattr(self, name)}")
+        check_at_least(self, 1, "num_classes", "num_joints", "width", "ff", "layers", "heads", "frames")
         if self.architecture in ("transformer", "autoregressive") and self.width % self.heads:
             raise ValueError(f"ActorConfig: width ({self.width}) must be a multiple of heads ({self.heads})")
         if self.architecture != "transformer" and not (self.distribution_tokens and self.bias_token):

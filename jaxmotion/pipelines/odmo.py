@@ -48,6 +48,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.labels import check_actions, check_durations
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, gather_windows, map_in_chunks, sample_sequences, sequence_weights
@@ -90,8 +91,7 @@ class CodeBankConfig:
     draws: int = 2048
 
     def __post_init__(self):
-        if self.passes < 1 or self.draws < 1:
-            raise ValueError(f"CodeBankConfig: passes and draws must be >= 1, got {self.passes}, {self.draws}")
+        check_at_least(self, 1, "passes", "draws")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -105,8 +105,7 @@ class ModeDiscovery:
     def __post_init__(self):
         if self.rule not in ("code", "paper"):
             raise ValueError(f"ModeDiscovery.rule: expected 'code' or 'paper', got {self.rule!r}")
-        if self.n_init < 1:
-            raise ValueError(f"ModeDiscovery.n_init: expected >= 1, got {self.n_init}")
+        check_at_least(self, 1, "n_init")
 
 
 class CodeBank(NamedTuple):

@@ -42,6 +42,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 
+from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, PairSpec
 from jaxmotion.losses.odmo import ODMOLossConfig, pair_loss
@@ -89,8 +90,7 @@ class ODMOTraining:
     canonical: bool = True
 
     def __post_init__(self):
-        if self.batch_size < 1:
-            raise ValueError(f"ODMOTraining.batch_size: expected >= 1, got {self.batch_size}")
+        check_at_least(self, 1, "batch_size")
         if not 0.0 <= self.validation_fraction < 1.0:
             raise ValueError(f"ODMOTraining.validation_fraction: expected in [0, 1), got {self.validation_fraction}")
         if not self.learning_rate > 0 or not self.clip_norm > 0:
