@@ -177,3 +177,19 @@ def test_end_point_trials_refuse_a_class_without_bank_codes():
     empty = pipe.CodeBank(bank.codes[keep], bank.ends[keep], bank.actions[keep], bank.clips[keep], bank.modes[keep])
     with pytest.raises(ValueError, match="class 1 has no code in its bank"):  # it was a bare IndexError
         pipe.end_point_trials(dataclasses.replace(trained, bank=empty), jax.random.key(0), trials=2, points=4)
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"actions": np.array([0, 1, 3, 1])}, r"score_modes: actions: expected class ids in \[0, 3\).*got \[3\]"),
+    ({"actions": np.array([0, 1, 2])}, r"score_modes: actions: expected \[4\] integer class ids"),
+    ({"true_modes": np.array([0, 1, -2, 0])}, r"score_modes: true_modes: expected \[4\] integer modes \(-1: unknown\)"),
+    ({"joints": np.zeros((3, 5, 24, 3))}, r"score_modes: expected codes \[N, Z\] and joints \[N, T, J, 3\] of the same N"),
+])
+def test_mode_scores_refuse_labels_they_cannot_mean(change, message):
+    """Checked before anything is fitted: a class id past the classes would be miscounted, not reported."""
+    from jaxmotion.pipelines.odmo import score_modes
+
+    inputs = {"codes": np.zeros((4, 2), np.float32), "actions": np.array([0, 1, 2, 1]),
+              "true_modes": np.array([0, 1, -1, 0]), "joints": np.zeros((4, 5, 24, 3), np.float32), **change}
+    with pytest.raises(ValueError, match=message):
+        score_modes(inputs["codes"], inputs["actions"], inputs["true_modes"], inputs["joints"], 3)

@@ -528,6 +528,14 @@ def score_modes(codes: np.ndarray, actions: np.ndarray, true_modes: np.ndarray, 
     :func:`~jaxmotion.metrics.apd.mode_homogeneity` with the discovered modes) and ``ari [C]`` (the adjusted
     Rand index of discovered against true modes per class; NaN for a class without true modes)."""
     codes, actions, true_modes = np.asarray(codes, np.float32), np.asarray(actions), np.asarray(true_modes)
+    if codes.ndim != 2 or np.shape(joints)[:1] != (len(codes),) or np.ndim(joints) != 4:
+        raise ValueError(f"score_modes: expected codes [N, Z] and joints [N, T, J, 3] of the same N, got "
+                         f"{codes.shape} and {np.shape(joints)}")
+    check_actions(actions, num_classes, count=len(codes), where="score_modes: actions")
+    if true_modes.shape != (len(codes),) or not np.issubdtype(true_modes.dtype, np.integer) or true_modes.min(
+            initial=0) < -1:
+        raise ValueError(f"score_modes: true_modes: expected [{len(codes)}] integer modes (-1: unknown), got "
+                         f"{true_modes.dtype} {true_modes.shape} from {true_modes.min(initial=0)}")
     bank = CodeBank(codes, np.zeros((len(codes), 3), np.float32), actions.astype(np.int32),
                     np.arange(len(codes), dtype=np.int32), true_modes.astype(np.int32))
     order = np.argsort(actions, kind="stable")  # the bank's rows in class order, as class_modes reads them
