@@ -158,7 +158,7 @@ def test_bad_specs_are_rejected(dataset):
         make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=7, window=10))
     make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=2, window=50))  # the longest clip: accepted
     with pytest.raises(ValueError, match=r"window: 51 frames is longer than every clip of toy/train \(the longest has "
-                                         r"50\): every window would be mostly padding; choose at most 50"):
+                                         r"50\): every training window would be mostly padding; choose at most 50"):
         make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=2, window=51))
 
 

@@ -222,11 +222,6 @@ def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
         raise ValueError(f"{dataset.skeleton.name} names no left_hip/right_hip: use canonical=False")
     if spec.permute_persons and dataset.persons < 2:
         raise ValueError(f"permute_persons: {dataset.name}/{dataset.split} has one person per sequence")
-    longest = int(np.max(dataset.lengths))
-    if spec.window > longest:
-        raise ValueError(f"window: {spec.window} frames is longer than every clip of {dataset.name}/{dataset.split} "
-                         f"(the longest has {longest}): every window would be mostly padding; choose at most "
-                         f"{longest}")
     frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
     if dataset.rotations is not None:
         frames_of["rotations"] = jnp.asarray(dataset.rotations)
@@ -341,6 +336,12 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
         raise ValueError(f"batch_size ({spec.batch_size}) exceeds the {len(dataset)} sequences of "
                          f"{dataset.name}/{dataset.split}; use sampling='uniform' (with replacement)")
     tables = _tables(dataset, spec)
+    # Training on windows every clip only pads; gathering whole clips into a model's window (gather_windows) may.
+    longest = int(np.max(dataset.lengths))
+    if spec.window > longest:
+        raise ValueError(f"window: {spec.window} frames is longer than every clip of {dataset.name}/{dataset.split} "
+                         f"(the longest has {longest}): every training window would be mostly padding; choose at "
+                         f"most {longest}")
     hips = tables.pop("hips")
     members = class_members(dataset.actions, dataset.num_classes) if pairs is not None else None
     order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
