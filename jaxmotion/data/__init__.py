@@ -7,6 +7,8 @@ and the batching pipeline.
 """
 
 from jaxmotion.data.datasets import dataset_names, load_dataset
-from jaxmotion.data.motion import Motion, MotionDataset, concatenate, pack
+from jaxmotion.data.motion import ActionItems, Motion, MotionDataset, concatenate, pack
+from jaxmotion.data.segments import Program, ProgramAction, Segments, transition_counts
 
-__all__ = ["Motion", "MotionDataset", "concatenate", "dataset_names", "load_dataset", "pack"]
+__all__ = ["ActionItems", "Motion", "MotionDataset", "Program", "ProgramAction", "Segments", "concatenate",
+           "dataset_names", "load_dataset", "pack", "transition_counts"]

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from jaxmotion.data.segments import Segments, concatenate_segments
 from jaxmotion.files import atomic_file
 from jaxmotion.geometry.skeletons import CMU_MOCAP20, GTA22, NTU25, SMPL24, UESTC18, Skeleton
 
@@ -48,6 +49,8 @@ class Motion:
       subject: subject index (``-1`` where unknown); for several persons, the clip's performer id (NTU's P
         field, which its cross-subject split uses).
       name: the clip's name in its source (file name, key), or a generated id.
+      segments: the actions of a multi-action sequence (:class:`~jaxmotion.data.segments.Segments`, ``sequence``
+        all 0), or None.
     """
 
     joints: np.ndarray
@@ -57,6 +60,7 @@ class Motion:
     mode: int = -1
     subject: int = -1
     name: str = ""
+    segments: Segments | None = None
 
     @property
     def persons(self) -> int:
@@ -85,6 +89,9 @@ class MotionDataset:
       names: ``N`` clip names.
       mode_names: per class, the names of its style modes (empty tuples where unknown).
       persons: P, the persons in every sequence (1: no persons axis in the arrays).
+      segments: for multi-action sequences (takes), their actions: frames, tags over ``class_names``, next tags
+        (:mod:`jaxmotion.data.segments`); a take's ``actions`` label is then its first action's first tag. None
+        for datasets of one action per sequence.
     """
 
     name: str
@@ -102,6 +109,7 @@ class MotionDataset:
     names: tuple[str, ...]
     mode_names: tuple[tuple[str, ...], ...] = ()
     persons: int = 1
+    segments: Segments | None = None
 
     def __post_init__(self):
         if not isinstance(self.persons, int) or self.persons < 1:
@@ -126,6 +134,8 @@ class MotionDataset:
         if self.mode_names and len(self.mode_names) != len(self.class_names):
             raise ValueError(f"mode_names: expected one tuple per class ({len(self.class_names)}), "
                              f"got {len(self.mode_names)}")
+        if self.segments is not None:
+            self.segments.check_within(self.lengths, len(self.class_names))
 
     # --- sequence access ---------------------------------------------------------------------------
 
@@ -147,6 +157,7 @@ class MotionDataset:
             mode=int(self.modes[index]),
             subject=int(self.subjects[index]),
             name=self.names[index],
+            segments=None if self.segments is None else self.segments.select([index]),
         )
 
     def __iter__(self) -> Iterator[Motion]:
@@ -178,7 +189,32 @@ class MotionDataset:
             modes=self.modes[indices],
             subjects=self.subjects[indices],
             names=tuple(self.names[i] for i in indices),
+            segments=None if self.segments is None else self.segments.select(indices),
         )
+
+    def action_items(self, context: int = 6) -> ActionItems:
+        """Each action of a multi-action dataset as its own sequence, its ``context`` preceding frames first
+        (:class:`~jaxmotion.data.segments.ActionItems`); actions with fewer frames before them are left out and
+        counted. A ``ValueError`` for a dataset without segments."""
+        if self.segments is None:
+            raise ValueError(f"{self.name}/{self.split}: holds one action per sequence (no segments); action items "
+                             f"need a multi-action dataset such as synth-mag")
+        if context < 0:
+            raise ValueError(f"context: expected >= 0 frames, got {context}")
+        seg = self.segments
+        keep = np.flatnonzero(seg.start >= context)
+        first = self.starts[seg.sequence[keep]] + seg.start[keep] - context
+        last = self.starts[seg.sequence[keep]] + seg.end[keep]
+        frames = np.concatenate([np.arange(a, b) for a, b in zip(first, last)]) if len(keep) else np.zeros(0, int)
+        lengths = last - first
+        pick = (lambda a: None if a is None else a[frames])
+        items = dataclasses.replace(
+            self, joints=pick(self.joints), translation=pick(self.translation), rotations=pick(self.rotations),
+            starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
+            actions=seg.primary[keep], modes=seg.modes[keep], subjects=self.subjects[seg.sequence[keep]],
+            names=tuple(f"{self.names[seg.sequence[k]]}/{k}" for k in keep), segments=None)
+        return ActionItems(items, context, seg.tags[keep], seg.next_tags[keep], seg.durations[keep],
+                           dropped=len(seg) - len(keep))
 
     # --- persistence ---------------------------------------------------------------------------------
 
@@ -195,6 +231,8 @@ class MotionDataset:
         arrays = {k: getattr(self, k) for k in ("joints", "translation", "starts", "actions", "modes", "subjects")}
         if self.rotations is not None:
             arrays["rotations"] = self.rotations
+        if self.segments is not None:
+            arrays.update(self.segments.to_arrays())
         with atomic_file(path) as f:  # a killed generation never leaves a half-written cache
             np.savez(f, header=np.array(json.dumps(header)), **arrays)
 
@@ -220,7 +258,39 @@ class MotionDataset:
             starts=arrays["starts"], actions=arrays["actions"], modes=arrays["modes"], subjects=arrays["subjects"],
             names=tuple(header["names"]), mode_names=tuple(tuple(m) for m in header["mode_names"]),
             persons=int(header.get("persons", 1)),  # files written before the persons axis hold one person
+            segments=Segments.from_arrays(arrays),
         )
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ActionItems:
+    """Actions cut from their sequences with the frames before them, as Neural Marionette trains on them
+    (:meth:`~jaxmotion.data.motion.MotionDataset.action_items`).
+
+    Attributes:
+      data: one sequence per action: its ``context`` preceding frames, then its own; ``actions`` are each action's
+        first tag, ``modes`` its mode, ``subjects`` and names those of its take (the name with ``/<row>``).
+      context: the context frames at the start of every sequence of ``data``.
+      tags, next_tags: ``[S, C]`` bool.
+      durations: ``[S]`` int64 frames of each action (its sequence's length minus ``context``).
+      dropped: actions left out because fewer than ``context`` frames precede them in their sequence.
+    """
+
+    data: MotionDataset
+    context: int
+    tags: np.ndarray
+    next_tags: np.ndarray
+    durations: np.ndarray
+    dropped: int
+
+    def __len__(self) -> int:
+        return len(self.durations)
+
+    def ground_paths(self) -> list[np.ndarray]:
+        """Per action ``[T, 2]`` the root's ground-plane path (x, z) over its own frames (context excluded)."""
+        data = self.data
+        return [data.translation[data.starts[i] + self.context:data.starts[i + 1]][:, [0, 2]]
+                for i in range(len(self))]
 
 
 class SourceMismatchError(ValueError):
@@ -234,6 +304,9 @@ def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Seque
     has_rot = {m.rotations is not None for m in motions}
     if len(has_rot) > 1:
         raise ValueError("pack: either every motion has rotations or none has")
+    has_segments = {m.segments is not None for m in motions}
+    if len(has_segments) > 1:
+        raise ValueError("pack: either every motion has segments or none has")
     for m in motions:
         if m.persons != persons:
             raise ValueError(f"pack: motion {m.name!r} has {m.persons} persons, expected {persons} "
@@ -259,6 +332,8 @@ def pack(motions: Sequence[Motion], *, name: str, split: str, class_names: Seque
         names=tuple(m.name for m in motions),
         mode_names=tuple(tuple(m) for m in mode_names),
         persons=persons,
+        segments=concatenate_segments([m.segments for m in motions], [1] * len(motions))
+        if has_segments == {True} else None,
     )
 
 
@@ -309,7 +384,9 @@ def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
                                            ("number of persons", p.persons == first.persons),
                                            (f"frame rate (fps {p.fps:g} and {first.fps:g})", p.fps == first.fps),
                                            ("rotations (present in one, absent in the other)",
-                                            (p.rotations is None) == (first.rotations is None))) if not same]
+                                            (p.rotations is None) == (first.rotations is None)),
+                                           ("segments (present in one, absent in the other)",
+                                            (p.segments is None) == (first.segments is None))) if not same]
         if differs:
             raise ValueError(f"concatenate: {p.name}/{p.split} differs from {first.name}/{first.split} in its "
                              f"{', '.join(differs)}")
@@ -323,6 +400,8 @@ def concatenate(parts: Sequence[MotionDataset], *, split: str) -> MotionDataset:
         modes=np.concatenate([p.modes for p in parts]),
         subjects=np.concatenate([p.subjects for p in parts]),
         names=tuple(n for p in parts for n in p.names),
+        segments=None if first.segments is None else concatenate_segments([p.segments for p in parts],
+                                                                          [len(p) for p in parts]),
     )
 
 

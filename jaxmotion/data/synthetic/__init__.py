@@ -43,7 +43,8 @@ from jaxmotion.data.formats.ntu120 import XSUB_TRAIN_SUBJECTS as NTU_XSUB_TRAIN_
 from jaxmotion.data.formats.uestc import NUM_SUBJECTS as UESTC_NUM_SUBJECTS
 from jaxmotion.data.formats.uestc import TRAIN_SUBJECTS as UESTC_TRAIN_SUBJECTS
 from jaxmotion.data.motion import MotionDataset, SourceMismatchError, concatenate
-from jaxmotion.data.synthetic import babel120, cmu, combat, humanact12, ntu1p_daily, ntu1p_extended, ntu2p, ntu13, uestc
+from jaxmotion.data.synthetic import (babel120, cmu, combat, humanact12, mag, ntu1p_daily, ntu1p_extended, ntu2p,
+                                      ntu13, uestc)
 from jaxmotion.data.synthetic.engine import Split, Variant, generate_split, subject
 from jaxmotion.data.synthetic.noise import EstimateNoise, KinectNoise
 from jaxmotion.geometry.markers import GTA22_ON_SMPL24, NTU25_ON_SMPL24
@@ -129,6 +130,14 @@ VARIANTS: MappingProxyType[str, Variant] = MappingProxyType({
         markers=GTA22_ON_SMPL24,
         splits=MappingProxyType({"train": Split(num_sequences=n, subjects=tuple(range(60)))}),
     ) for p, n in ((2, 460), (3, 380), (4, 300), (5, 240))},
+    # BABEL-MAG (Neural Marionette): BABEL-MAG's 31 tags as actions of continuous multi-action takes, the paper's
+    # counts, 20% (at most 100) of each tag in test (mag module). Sequences are takes with segment tables; a
+    # split's num_sequences counts its actions and lengths bound an action's frames (1-4 s at 30 fps).
+    "synth-mag": Variant(
+        name="synth-mag", classes=mag.CLASSES, fps=mag.FPS, lengths=(30, 120), takes=mag.plan_takes,
+        splits=MappingProxyType({split: Split(num_sequences=mag.split_actions(split), subjects=tuple(range(40)))
+                                 for split in ("train", "test")}),
+    ),
 })
 
 

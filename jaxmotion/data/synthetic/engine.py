@@ -21,15 +21,17 @@ from __future__ import annotations
 import dataclasses
 import functools
 import zlib
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.segments import Segments
 from jaxmotion.data.synthetic import anatomy, grounding
 from jaxmotion.data.synthetic.body import Subject, sample_subject
+from jaxmotion.data.synthetic.chain import TakePlan, perform_plan
 from jaxmotion.data.synthetic.scene import Scene, SceneClass, pose_scenes
 from jaxmotion.data.synthetic.take import Take, finish
 from jaxmotion.geometry import rotations
@@ -91,6 +93,10 @@ class Variant:
         of the split (the clip's subject label is the first person's).
       swapped_copies: also store each clip with its persons in reverse order, right after it, named
         ``...-flip`` (ActFormer's two-person splits hold these).
+      takes: for a variant of multi-action takes, ``(split, seed) -> plans`` (:class:`~chain.TakePlan`: a lead-in
+        and the actions, each with its perform function, tags, mode and length); the sequences are those takes,
+        joined by :mod:`chain`, with their :class:`~jaxmotion.data.segments.Segments`; ``classes`` are then the
+        tags, and a split's ``num_sequences`` is not read (the plan decides). None: one action per sequence.
     """
 
     name: str
@@ -104,6 +110,7 @@ class Variant:
     stream: str | None = None
     persons: int = 1
     swapped_copies: bool = False
+    takes: Callable[[str, int], Sequence[TakePlan]] | None = None
 
     def __post_init__(self):
         if self.joint_noise is not None and self.markers is None:
@@ -114,6 +121,8 @@ class Variant:
                              f"{'SceneClass' if self.persons > 1 else 'ActionClass'} classes")
         if self.swapped_copies and self.persons < 2:
             raise ValueError(f"{self.name}: swapped_copies needs several persons")
+        if self.takes is not None and (self.persons > 1 or self.noise is not None or self.markers is not None):
+            raise ValueError(f"{self.name}: multi-action takes are of one person, without capture models")
         for name, split in self.splits.items():
             if len(split.subjects) < self.persons:
                 raise ValueError(f"{self.name}/{name}: {len(split.subjects)} subjects for scenes of {self.persons}")
@@ -172,15 +181,19 @@ class _Posed:
     contact: np.ndarray  # [T, 2]
     ground: np.ndarray  # [T, 2] metres
     heading: np.ndarray  # [T] radians
-    flight_speed: float
-    flight_carry: float
+    flight_speed: float | np.ndarray  # one value, or [T] (a multi-action take)
+    flight_carry: float | np.ndarray
     subject: Subject
     rng: np.random.Generator
 
 
+def _sequence_rng(variant: Variant, split: str, seed: int, index: int) -> np.random.Generator:
+    return np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _key(split), index]))
+
+
 def _perform(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
              bodies: Mapping[int, Subject]) -> _Posed:
-    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _key(split), index]))
+    rng = _sequence_rng(variant, split, seed, index)
     who = bodies[int(rng.choice(variant.splits[split].subjects))]
     num_frames = int(rng.integers(variant.lengths[0], variant.lengths[1] + 1))
     cls = variant.classes[action]
@@ -191,10 +204,38 @@ def _perform(variant: Variant, split: str, seed: int, index: int, action: int, m
                   who, rng)
 
 
+def _perform_take(variant: Variant, split: str, seed: int, index: int, plan: TakePlan,
+                  bodies: Mapping[int, Subject]) -> _Posed:
+    """Take ``index`` of a split of multi-action takes, performed and joined (:mod:`chain`)."""
+    rng = _sequence_rng(variant, split, seed, index)
+    who = bodies[int(rng.choice(variant.splits[split].subjects))]
+    joined = perform_plan(plan, variant.fps, rng, who)
+    return _Posed(joined.angles, joined.contact, joined.ground, np.radians(joined.angles[:, 0, 0]),
+                  joined.flight_speed, joined.flight_carry, who, rng)
+
+
+def plan_segments(plans: Sequence[TakePlan], num_tags: int) -> Segments:
+    """The segment table of planned takes: each action's frames, tags, the next action's tags (its own for the
+    last) and mode."""
+    rows = []
+    for i, plan in enumerate(plans):
+        start = plan.lead_in.frames
+        for k, action in enumerate(plan.actions):
+            after = plan.actions[k + 1] if k + 1 < len(plan.actions) else action
+            rows.append((i, start, start + action.frames, action.tags, after.tags, action.mode_index))
+            start += action.frames
+    flags = np.zeros((len(rows), 2, num_tags), bool)
+    for r, (*_, tags, after, _) in enumerate(rows):
+        flags[r, 0, list(tags)] = True
+        flags[r, 1, list(after)] = True
+    column = (lambda k: np.array([row[k] for row in rows], np.int32))
+    return Segments(column(0), column(1), column(2), flags[:, 0], flags[:, 1], column(5))
+
+
 def _stage(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
            bodies: Mapping[int, Subject]) -> Scene:
     """Scene ``index`` of a split of several persons, performed (not yet posed)."""
-    rng = np.random.default_rng(np.random.SeedSequence([seed, _key(variant.seed_name), _key(split), index]))
+    rng = _sequence_rng(variant, split, seed, index)
     pool = variant.splits[split].subjects
     who = [bodies[pool[int(i)]] for i in rng.choice(len(pool), variant.persons, replace=False)]
     num_frames = int(rng.integers(variant.lengths[0], variant.lengths[1] + 1))
@@ -325,11 +366,21 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
                    progress: bool = False) -> MotionDataset:
     """The first ``count`` (default: all) sequences of one split, packed; ``progress``: a progress line with an
     ETA on stderr (a full split takes minutes)."""
-    actions, modes = schedule(variant, split)
-    if count is not None:
-        actions, modes = actions[:count], modes[:count]
+    segments = None
+    if variant.takes is not None:
+        plans = tuple(variant.takes(split, seed))[:count]
+        segments = plan_segments(plans, len(variant.classes))
+        actions = np.array([plan.actions[0].tags[0] for plan in plans], np.int32)
+        modes = np.array([plan.actions[0].mode_index for plan in plans], np.int32)
+    else:
+        actions, modes = schedule(variant, split)
+        if count is not None:
+            actions, modes = actions[:count], modes[:count]
     bodies = {s: subject(variant, s, seed) for s in variant.splits[split].subjects}
-    if variant.persons == 1:
+    if variant.takes is not None:
+        items = (_perform_take(variant, split, seed, i, plan, bodies) for i, plan in enumerate(plans))
+        frames_of, chunk, first_subject = (lambda p: len(p.angles)), _chunk, (lambda p: p.subject.index)
+    elif variant.persons == 1:
         items = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
         frames_of, chunk, first_subject = (lambda p: len(p.angles)), _chunk, (lambda p: p.subject.index)
     else:
@@ -360,7 +411,7 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
         starts=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
         actions=actions, modes=modes, subjects=np.array(subjects, np.int32),
         names=tuple(f"{variant.name}-{split}-{i:06d}" for i in range(len(actions))),
-        mode_names=variant.mode_names, persons=variant.persons,
+        mode_names=variant.mode_names, persons=variant.persons, segments=segments,
     )
     return with_swapped_copies(data) if variant.swapped_copies else data
 

@@ -62,7 +62,7 @@ def _back_where_stood(path: np.ndarray, pinned: np.ndarray, contact: np.ndarray,
 
 
 def root_translation(soles: np.ndarray, contact: np.ndarray, ground: np.ndarray, heading: np.ndarray, fps: float,
-                     flight_speed: float = 0.0, carry: float = 1.0) -> np.ndarray:
+                     flight_speed: float | np.ndarray = 0.0, carry: float | np.ndarray = 1.0) -> np.ndarray:
     """Root path ``[T, 3]`` for a posed body.
 
     Args:
@@ -75,8 +75,12 @@ def root_translation(soles: np.ndarray, contact: np.ndarray, ground: np.ndarray,
       carry: fraction of the support phase's horizontal velocity kept in flight (1 for running; 0 for a
         jump, whose push-off moves the hips over the feet without launching the body forward, or running on
         the spot: the feet then land where they stood, plus ``flight_speed``).
+      Both are one value for the clip or ``[T]`` per frame (a take of several actions); a flight takes the values
+      of its first frame.
     """
     num_frames = len(contact)
+    flight_speed = np.broadcast_to(np.asarray(flight_speed, float), (num_frames,))
+    carry = np.broadcast_to(np.asarray(carry, float), (num_frames,))
     airborne = contact.sum(axis=1) <= 1e-6
     if airborne.all():  # nothing to stand on: treat the whole clip as supported by both feet
         contact, airborne = np.full_like(contact, 0.5), np.zeros_like(airborne)
@@ -99,13 +103,13 @@ def root_translation(soles: np.ndarray, contact: np.ndarray, ground: np.ndarray,
     window = max(round(_MOMENTUM_WINDOW * fps), 1)
     for a, b in _segments(airborne):
         support = step[max(a - window, 1):a]
-        velocity = carry * support.mean(axis=0) * fps if len(support) else np.zeros(2)
+        velocity = carry[a] * support.mean(axis=0) * fps if len(support) else np.zeros(2)
         facing = heading[a:b].mean()
-        velocity = velocity + flight_speed * np.array([np.sin(facing), np.cos(facing)])
-        if carry < 1.0 and 0 < a and b < num_frames:
+        velocity = velocity + flight_speed[a] * np.array([np.sin(facing), np.cos(facing)])
+        if carry[a] < 1.0 and 0 < a and b < num_frames:
             # A short flight (running on the spot) makes up only part of the way back, so that a foot still
             # near the floor does not visibly slide; the next landings make up the rest.
-            share = (1.0 - carry) * min(1.0, (b - a + 1) / (fps * _RETURN_TIME))
+            share = (1.0 - carry[a]) * min(1.0, (b - a + 1) / (fps * _RETURN_TIME))
             velocity = velocity + share * fps / (b - a + 1) * _back_where_stood(
                 np.cumsum(step, axis=0), pinned_now, contact, weights[b], a, b)
         step[a:b + 1] = velocity / fps  # through the landing frame
