@@ -1,7 +1,10 @@
-"""Look at motion datasets: stick-figure grids (classes x modes) as GIF or PNG, and filmstrips.
+"""Look at motion datasets: stick-figure grids (classes x modes) as GIF or PNG, filmstrips, and for multi-action
+datasets a whole take with its tag timeline and the tag transition matrix.
 
     python -m jaxmotion.data.preview synth-humanact12 --classes 0,1,2 --out preview.gif
     python -m jaxmotion.data.preview synth-humanact12 --classes 0,1,2 --out preview.png --png
+    python -m jaxmotion.data.preview synth-mag --take 0 --out take.gif          # or --png for a strip
+    python -m jaxmotion.data.preview synth-mag --transitions --out transitions.png
 
 Rendering is matplotlib (Agg); the GIF uses matplotlib's PillowWriter. Colours: the subject's left
 side blue, right side red, midline black; the floor (y = 0) is grey. 2D views are orthographic and never
@@ -28,6 +31,7 @@ import numpy as np
 from matplotlib.animation import FuncAnimation, PillowWriter
 
 from jaxmotion.data.motion import Motion, MotionDataset, person_axis
+from jaxmotion.data.segments import Segments, transition_counts
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.progress import phase
 
@@ -214,6 +218,102 @@ def render_grid(data: MotionDataset, classes: Sequence[int], path: str, *, still
     plt.close(fig)
 
 
+def _timeline(ax, segments: Segments, tag_names: Sequence[str], fps: float, num_frames: int) -> None:
+    """The actions of one take as labelled bars over time (s): a row per tag an action carries, lead-in bare."""
+    rows = max(int(segments.tags.sum(axis=1).max()), 1) if len(segments) else 1
+    for start, end, tags in zip(segments.start, segments.end, segments.tags, strict=True):
+        for row, tag in enumerate(np.flatnonzero(tags)):
+            colour = plt.cm.tab20(tag % 20)
+            ax.barh(rows - 1 - row, (end - start) / fps, left=start / fps, height=0.8, color=colour,
+                    edgecolor="white")
+            ax.text((start + end) / (2 * fps), rows - 1 - row, tag_names[tag], ha="center", va="center", fontsize=6,
+                    clip_on=True)
+    ax.set_xlim(0, num_frames / fps)
+    ax.set_ylim(-0.6, rows - 0.4)
+    ax.set_yticks([])
+    ax.set_xlabel("time (s)", fontsize=8)
+    ax.tick_params(labelsize=7)
+
+
+def take_strip(data: MotionDataset, index: int, path: str, *, frames: int = 12) -> None:
+    """Save a PNG of take ``index`` of a multi-action dataset: ``frames`` evenly spaced poses (oblique view) above
+    its tag timeline, each pose's time marked on it."""
+    motion = _take(data, index)
+    people = _facing_viewer(_on_floor(_people(motion)), data.skeleton)
+    picks = np.linspace(0, motion.num_frames - 1, frames).round().astype(int)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(0.9 * frames, 3.6), height_ratios=(3, 1.2))
+    _strip(top, people, data.skeleton, picks, "oblique", spacing=0.9, lw=1.4, labels=False)
+    top.set_axis_off()
+    top.set_title(f"{data.name}/{data.split}: {motion.name}", fontsize=9)
+    _timeline(bottom, motion.segments, data.class_names, data.fps, motion.num_frames)
+    for f in picks:
+        bottom.axvline(f / data.fps, color="0.3", lw=0.6, ls=":")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def take_animation(data: MotionDataset, index: int, path: str) -> None:
+    """Save a GIF of take ``index`` of a multi-action dataset: the body in 3D following its root, the current
+    action's tags as the title, and the tag timeline with a moving cursor."""
+    motion = _take(data, index)
+    people = _on_floor(_people(motion))
+    seg = motion.segments
+    fig = plt.figure(figsize=(4.8, 5.4))
+    ax = fig.add_axes((0.0, 0.28, 1.0, 0.66), projection="3d", proj_type="ortho")
+    line = fig.add_axes((0.06, 0.08, 0.9, 0.16))
+    _timeline(line, seg, data.class_names, data.fps, motion.num_frames)
+    cursor = line.axvline(0.0, color="black", lw=1.2)
+
+    def update(frame):
+        row = np.flatnonzero((seg.start <= frame) & (frame < seg.end))
+        label = " + ".join(data.class_names[t] for t in np.flatnonzero(seg.tags[row[0]])) if len(row) else "(lead-in)"
+        ax.set_title(label, fontsize=9)
+        _draw_3d(ax, people[:, frame], data.skeleton, 1.2)
+        cursor.set_xdata([frame / data.fps])
+        return []
+
+    with phase(f"[render] {Path(path).name}", motion.num_frames, unit="frame") as bar:
+        FuncAnimation(fig, update, frames=motion.num_frames).save(
+            path, writer=PillowWriter(fps=data.fps), dpi=64, progress_callback=lambda i, _: bar.update(i + 1))
+    plt.close(fig)
+
+
+def transition_heatmap(data: MotionDataset, path: str) -> None:
+    """Save a PNG of the dataset's tag transition counts (row: an action's tag, column: the next action's), on a
+    log colour scale; empty pairs white."""
+    if data.segments is None:
+        raise ValueError(f"{data.name}/{data.split}: holds one action per sequence; the transition matrix needs "
+                         f"a multi-action dataset")
+    counts = transition_counts(data.segments).astype(float)
+    fig, ax = plt.subplots(figsize=(8.5, 8))
+    shown = np.ma.masked_equal(np.log10(np.maximum(counts, 1)) + (counts > 0), 0.0)  # 1 -> 1, 10 -> 2, ...
+    image = ax.imshow(shown, cmap="viridis", vmin=1.0)
+    ticks = np.arange(data.num_classes)
+    ax.set_xticks(ticks, data.class_names, rotation=90, fontsize=7)
+    ax.set_yticks(ticks, data.class_names, fontsize=7)
+    ax.set_xlabel("next action's tag")
+    ax.set_ylabel("action's tag")
+    occupied = (counts > 0).mean()
+    ax.set_title(f"{data.name}/{data.split}: tag transitions ({int(counts.sum())} in all, {100 * occupied:.0f}% "
+                 f"of pairs occur)", fontsize=9)
+    bar = fig.colorbar(image, ax=ax, shrink=0.7)
+    decades = np.arange(1, int(shown.max()) + 1)
+    bar.set_ticks(decades, labels=[f"{10 ** (d - 1):g}" for d in decades])
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def _take(data: MotionDataset, index: int) -> Motion:
+    if data.segments is None:
+        raise ValueError(f"{data.name}/{data.split}: holds one action per sequence; --take needs a multi-action "
+                         f"dataset (synth-mag)")
+    if not 0 <= index < len(data):
+        raise ValueError(f"take: expected an index in [0, {len(data)}) of {data.name}/{data.split}, got {index}")
+    return data[index]
+
+
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dataset", help="a synthetic variant name, e.g. synth-humanact12")
@@ -223,6 +323,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--count", type=int, default=None,
                         help="generate only the first COUNT sequences (faster; enough for one per mode)")
+    parser.add_argument("--split", default="train", help="the split to draw from (default: train)")
+    parser.add_argument("--take", type=int, default=None,
+                        help="a multi-action dataset: draw this take with its tag timeline (GIF, or --png a strip)")
+    parser.add_argument("--transitions", action="store_true",
+                        help="a multi-action dataset: draw the tag transition matrix (a PNG heat map)")
     args = parser.parse_args(argv)
 
     from jaxmotion.data import synthetic
@@ -232,9 +337,14 @@ def main(argv: Sequence[str] | None = None) -> None:
     except ValueError:
         parser.error(f"--classes: expected comma-separated class indices, got {args.classes!r}")
     try:
-        data = synthetic.generate(args.dataset, "train", seed=args.seed, count=args.count) if args.count else \
-            synthetic.load(args.dataset, "train", seed=args.seed)
-        render_grid(data, classes, args.out, still=args.png)
+        data = synthetic.generate(args.dataset, args.split, seed=args.seed, count=args.count) if args.count else \
+            synthetic.load(args.dataset, args.split, seed=args.seed)
+        if args.transitions:
+            transition_heatmap(data, args.out)
+        elif args.take is not None:
+            (take_strip if args.png else take_animation)(data, args.take, args.out)
+        else:
+            render_grid(data, classes, args.out, still=args.png)
     except (ValueError, FileNotFoundError) as err:  # what the checks raise: one line, as an experiment's
         raise SystemExit(f"jaxmotion.data.preview: {err}") from None
     print(f"wrote {args.out}")
