@@ -19,12 +19,15 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from jaxmotion.geometry.kinematics import (
+    apply_transform,
     bone_lengths,
     canonicalize,
     canonicalize_transform,
     forward_kinematics,
     forward_kinematics_transforms,
+    heading_transform,
     humanact12_to_library_frame,
+    inverse_transform,
     library_to_humanact12_frame,
     root_relative,
     root_trajectory,
@@ -371,3 +374,45 @@ def test_transform_root_refuses_a_reflection():
     with pytest.raises(ValueError, match=re.escape("transform_root: rotation: 1 of 1 matrices are not rotations; "
                                                    "the first, at index (), is a reflection")):
         transform_root(np.diag([-1.0, 1.0, 1.0]), np.zeros(3), np.tile(np.eye(3), (4, 1, 1)), np.zeros((4, 3)))
+
+
+# --- Marionette's heading normalisation ---------------------------------------------------------------
+
+_heading = jax.jit(heading_transform)
+
+
+def _normalised(rotmats, translation, frame):
+    """A motion ``[T, 24, 3, 3]``, ``[T, 3]`` in the heading frame of ``frame``: its root rotations, translation,
+    joints, and the transform."""
+    rotation, shift = _heading(rotmats[frame, 0], translation[frame])
+    roots, moved = transform_root(rotation, shift, rotmats[:, 0], translation)
+    rotmats = np.concatenate([np.asarray(roots)[:, None], rotmats[:, 1:]], axis=1)
+    return rotmats, np.asarray(moved), (rotation, shift)
+
+
+@given(seeds, st.floats(-np.pi, np.pi), st.floats(-3.0, 3.0), st.floats(-3.0, 3.0))
+def test_heading_normalisation_removes_the_ground_rotation_and_position_and_restores_them(seed, angle, dx, dz):
+    axis_angles, translation = normals(seed, (5, 24, 3), (5, 3))
+    rotmats = np.asarray(jit_axis_angle_to_matrix(0.7 * axis_angles))
+    frame = 3
+    norm_rotmats, norm_translation, (rotation, shift) = _normalised(rotmats, translation, frame)
+    forward = norm_rotmats[frame, 0] @ np.array([0.0, 0.0, 1.0])
+    assert abs(forward[0]) < 1e-5 and forward[2] > 0  # facing +Z
+    np.testing.assert_allclose(norm_translation[frame], [0.0, translation[frame, 1], 0.0], atol=1e-5)  # height kept
+    # FK commutes with the transform
+    offsets = SMPL24.offsets
+    joints = forward_kinematics(rotmats, translation, offsets, SMPL24.parents)
+    np.testing.assert_allclose(forward_kinematics(norm_rotmats, norm_translation, offsets, SMPL24.parents),
+                               apply_transform(rotation, shift, joints), atol=1e-5)
+    # the inverse restores the motion to float32 rounding
+    back_roots, back_translation = transform_root(*inverse_transform(rotation, shift), norm_rotmats[:, 0],
+                                                  norm_translation)
+    np.testing.assert_allclose(back_roots, rotmats[:, 0], atol=1e-5)
+    np.testing.assert_allclose(back_translation, translation, atol=1e-5)
+    # the same motion turned about +Y and moved on the ground normalises to the same thing
+    turned_roots, turned_translation = transform_root(yaw(angle), np.array([dx, 0.0, dz], np.float32),
+                                                      rotmats[:, 0], translation)
+    turned = np.concatenate([np.asarray(turned_roots)[:, None], rotmats[:, 1:]], axis=1)
+    again_rotmats, again_translation, _ = _normalised(turned, np.asarray(turned_translation), frame)
+    np.testing.assert_allclose(again_rotmats[:, 0], norm_rotmats[:, 0], atol=1e-4)
+    np.testing.assert_allclose(again_translation, norm_translation, atol=1e-4)

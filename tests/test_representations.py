@@ -8,9 +8,11 @@ import pytest
 from jaxmotion.geometry import GTA22, NTU25, SMPL24, axis_angle_to_matrix, forward_kinematics
 from jaxmotion.geometry.markers import NTU25_ON_SMPL24, markers_from_rotations
 from jaxmotion.geometry.representations import (
+    from_pose135,
     joints_from_limb_vectors,
     limb_vectors,
     mean_bone_lengths,
+    pose135,
     rotation_features,
     skeleton_features,
     split_rotation_features,
@@ -110,3 +112,21 @@ def test_skeleton_features_need_a_persons_axis():
         skeleton_features(jnp.zeros((10, 25, 3)), NTU25.parents)
     with pytest.raises(ValueError, match=r"lengths: expected shape \[J\] = \(25,\)"):
         joints_from_limb_vectors(jnp.zeros((10, 25, 3)), NTU25.parents, jnp.zeros(24))
+
+
+def test_the_135_number_pose_holds_22_joints_in_rot6d_and_the_translation_and_round_trips():
+    rot, trans = _motion(3)  # [2, 3, T, 24, 3]
+    pose = pose135(rot, trans)
+    assert pose.shape == (2, 3, 10, 135)
+    np.testing.assert_allclose(pose[..., 132:], trans)
+    first = np.asarray(axis_angle_to_matrix(rot[..., 0, :]))[..., :2, :].reshape(2, 3, 10, 6)
+    np.testing.assert_allclose(pose[..., :6], first, atol=1e-6)  # joint 0 first, the matrix's first two rows
+    back_rot, back_trans = from_pose135(pose)
+    np.testing.assert_allclose(axis_angle_to_matrix(back_rot[..., :22, :]), axis_angle_to_matrix(rot[..., :22, :]),
+                               atol=1e-5)
+    np.testing.assert_array_equal(back_rot[..., 22:, :], 0.0)  # the hands: identity
+    np.testing.assert_array_equal(back_trans, trans)
+    with pytest.raises(ValueError, match=r"pose: expected shape \[..., T, 135\], got \(10, 134\)"):
+        from_pose135(pose[0, 0, :, :134])
+    with pytest.raises(ValueError, match=r"rotations: expected shape \[..., T, 24, 3\] \(SMPL-24\)"):
+        pose135(rot[..., :22, :], trans)

@@ -256,6 +256,56 @@ def transform_root(
     return _matmul(per_frame, root_rotmats), new_translation
 
 
+def heading_transform(root_rotmat: jax.Array, root_translation: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """The rigid map ``x -> R x + t`` that turns a pose to face +Z and moves its root over the origin: Neural
+    Marionette's normalisation at the last context frame (its Eqs. 3-5), in the library frame (+Y up).
+
+    ``R`` is the rotation about +Y that takes the heading (the root's forward axis ``root_rotmat @ e_z`` projected on
+    the ground: the yaw of a heading-first Euler decomposition, as the paper keeps the yaw of the root's Euler
+    angles) to +Z; ``t`` moves the root's ground position (x, z) to the origin. The height is kept (the paper
+    subtracts the whole translation; which components it means is open, and keeping the height keeps the floor at
+    y = 0, where a seated or standing context can be told apart).
+
+    Args:
+      root_rotmat: ``[..., 3, 3]`` the root's global rotation at the frame (e.g. the last context frame).
+      root_translation: ``[..., 3]`` its translation there.
+
+    Returns:
+      ``(R [..., 3, 3], t [..., 3])``. Normalise a motion with :func:`transform_root` (rotations) or
+      :func:`apply_transform` (joints, paths); restore it with the :func:`inverse_transform`. A forward axis
+      pointing straight up or down has no heading (the result is then a turn by an arbitrary angle).
+    """
+    root_rotmat, root_translation = jnp.asarray(root_rotmat), jnp.asarray(root_translation)
+    if root_rotmat.ndim < 2 or root_rotmat.shape[-2:] != (3, 3):
+        raise _shape_error("root_rotmat", "[..., 3, 3]", root_rotmat.shape)
+    if root_translation.shape != root_rotmat.shape[:-2] + (3,):
+        raise _shape_error("root_translation", str([*root_rotmat.shape[:-2], 3]), root_translation.shape)
+    forward = root_rotmat[..., :, 2]  # R e_z
+    yaw = jnp.arctan2(forward[..., 0], forward[..., 2])
+    c, s = jnp.cos(yaw), jnp.sin(yaw)
+    zero, one = jnp.zeros_like(c), jnp.ones_like(c)
+    # R_y(-yaw): rows of the rotation by -yaw about +Y
+    rotation = jnp.stack([jnp.stack([c, zero, -s], -1), jnp.stack([zero, one, zero], -1),
+                          jnp.stack([s, zero, c], -1)], -2)
+    ground = root_translation * jnp.asarray([1.0, 0.0, 1.0], root_translation.dtype)
+    return rotation, -_matmul(rotation, ground[..., None])[..., 0]
+
+
+def inverse_transform(rotation: jax.Array, translation: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """The inverse of the rigid map ``x -> R x + t``: ``(Rᵀ, -Rᵀ t)``, shapes as given."""
+    inverse = jnp.swapaxes(jnp.asarray(rotation), -1, -2)
+    return inverse, -_matmul(inverse, jnp.asarray(translation)[..., None])[..., 0]
+
+
+def apply_transform(rotation: jax.Array, translation: jax.Array, points: jax.Array) -> jax.Array:
+    """``points [..., N, 3]`` (joints of a frame, a path, every frame's joints flattened) mapped by ``x -> R x + t``
+    with ``R [..., 3, 3]``, ``t [..., 3]`` broadcast over N."""
+    points = jnp.asarray(points)
+    _check_points("points", points, "[..., N, 3]", 2)
+    moved = jnp.einsum("...ij,...nj->...ni", rotation, points, precision=jax.lax.Precision.HIGHEST)
+    return moved + jnp.asarray(translation)[..., None, :]
+
+
 def library_to_humanact12_frame(points: jax.Array) -> jax.Array:
     """Library frame (+Y up, facing +Z) to the HumanAct12 / Action2Motion joint frame (y down, facing -Z).
 

@@ -9,6 +9,9 @@
   from its parent, ``(x_c - x_p) / (|x_c - x_p| + 1e-4)``. Joints are rebuilt from the root by
   ``x_c = x_p + u_c * length_c`` with one length per bone: the dataset's average bone lengths
   (:func:`mean_bone_lengths`, ActFormer's ``avglength``), so the rebuilt body has average proportions.
+* **The 135-number pose** (Neural Marionette, MARIONETTE.md §1.2): the 22 body joints of SMPL-H (SMPL-24 without
+  its two hand joints) as rot6d, joint after joint, then the root translation: ``[..., T, 22 * 6 + 3]``
+  (:func:`pose135`). Back to the library's record the hands get the identity rotation (:func:`from_pose135`).
 
 Axes: ``...`` leading axes (batch), P persons, T frames, J joints, C channels.
 """
@@ -69,6 +72,35 @@ def split_rotation_features(features: jax.Array, rep: str = "rot6d") -> tuple[ja
     _check("features", features, (channels,), 3, f"[..., T, J + 1, {channels}] for {rep!r}")
     rots = features[..., :-1, :].reshape(*features.shape[:-2], features.shape[-2] - 1, *REPRESENTATIONS[rep])
     return matrix_to_axis_angle(to_matrix(rots, rep), check=False), features[..., -1, :3]
+
+
+#: The body joints of the 135-number pose: SMPL-24's first 22 (its hand joints, 22 and 23, dropped).
+POSE135_JOINTS = 22
+POSE135_SIZE = POSE135_JOINTS * 6 + 3
+
+
+def pose135(rotations: jax.Array, translation: jax.Array) -> jax.Array:
+    """``rotations [..., T, 24, 3]`` SMPL-24 axis-angle, ``translation [..., T, 3]`` -> ``[..., T, 135]``: rot6d of
+    joints 0-21 (the first two rows of each matrix, as everywhere in the library), then the translation as it is
+    (absolute in whatever frame it is given: Marionette's normalised frame, see
+    :func:`~jaxmotion.geometry.kinematics.heading_transform`)."""
+    _check("rotations", rotations, (24, 3), 3, "[..., T, 24, 3] (SMPL-24)")
+    _check("translation", translation, (3,), 2, "[..., T, 3]")
+    if jnp.shape(translation) != jnp.shape(rotations)[:-2] + (3,):
+        raise ValueError(f"translation: expected shape {tuple(jnp.shape(rotations)[:-2]) + (3,)} (the rotations' "
+                         f"[..., T] and 3), got {tuple(jnp.shape(translation))}")
+    body = from_matrix(axis_angle_to_matrix(rotations[..., :POSE135_JOINTS, :]), "rot6d")  # [..., T, 22, 6]
+    return jnp.concatenate([body.reshape(*body.shape[:-2], POSE135_JOINTS * 6), translation], axis=-1)
+
+
+def from_pose135(pose: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """Inverse of :func:`pose135`: ``[..., T, 135]`` (any 6D, e.g. a network's, orthonormalised) ->
+    ``(rotations [..., T, 24, 3]`` with identity hands, ``translation [..., T, 3])``."""
+    _check("pose", pose, (POSE135_SIZE,), 2, f"[..., T, {POSE135_SIZE}]")
+    body = pose[..., :POSE135_JOINTS * 6].reshape(*pose.shape[:-1], POSE135_JOINTS, 6)
+    axis_angle = matrix_to_axis_angle(to_matrix(body, "rot6d"), check=False)
+    hands = jnp.zeros((*pose.shape[:-1], 24 - POSE135_JOINTS, 3), axis_angle.dtype)
+    return jnp.concatenate([axis_angle, hands], axis=-2), pose[..., POSE135_JOINTS * 6:]
 
 
 def limb_vectors(joints: jax.Array, parents: tuple[int, ...]) -> jax.Array:
