@@ -185,3 +185,25 @@ def test_preview_draws_a_take_with_its_timeline_and_the_transition_matrix(sample
             assert image.size[0] > 300
     with pytest.raises(ValueError, match="take: expected an index in \\[0, 1\\)"):
         preview.take_strip(data, 1, str(tmp_path / "none.png"))
+
+
+def test_action_items_batch_whole_with_their_tags_and_padding_masks(sample):
+    import jax
+
+    from jaxmotion.data.pipeline import action_item_batch_fn
+
+    items = sample.action_items(CONTEXT_FRAMES)
+    batch = action_item_batch_fn(items, jax.random.key(0), batch_size=4)(0)
+    longest = int(items.data.lengths.max())
+    assert batch["joints"].shape == (4, longest, 24, 3) and batch["tags"].shape == (4, 31)
+    for row in range(4):
+        # which item is it: the one whose tags, length and first frames it holds
+        n = int(batch["lengths"][row])
+        match = [i for i in range(len(items)) if items.data.lengths[i] == n and np.array_equal(
+            items.data[i].joints, np.asarray(batch["joints"][row, :n]))]
+        assert len(match) == 1
+        i = match[0]
+        np.testing.assert_array_equal(batch["tags"][row], items.tags[i])
+        np.testing.assert_array_equal(batch["next_tags"][row], items.next_tags[i])
+        assert int(batch["durations"][row]) == items.durations[i] == n - CONTEXT_FRAMES
+        np.testing.assert_array_equal(batch["mask"][row], np.arange(longest) < n)

@@ -29,7 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.config import check_at_least
-from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.motion import ActionItems, MotionDataset
 from jaxmotion.distributed import DATA_AXIS, gather, shard_batch
 from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
 from jaxmotion.geometry.rotations import (
@@ -195,8 +195,9 @@ class BatchSpec:
     ``window``: T. ``min_length``: when set, each window holds a random-length segment of
     ``[min_length, min(n, window)]`` frames followed by padding (ACTOR's 60-100 fine-tuning); otherwise a
     segment of ``min(n, window)`` frames. ``canonical``: root of frame 0 at the origin facing +Z;
-    otherwise only the root of frame 0 at the origin (Action2Motion, ODMO). ``permute_persons``: each
-    window's persons in a random order (datasets of several persons only).
+    otherwise only the root of frame 0 at the origin (Action2Motion, ODMO), or with ``in_place`` the windows where
+    they are (Neural Marionette's action items, normalised later at their last context frame). ``permute_persons``:
+    each window's persons in a random order (datasets of several persons only).
     """
 
     batch_size: int
@@ -206,14 +207,17 @@ class BatchSpec:
     padding: Padding = "last"
     canonical: bool = True
     permute_persons: bool = False
+    in_place: bool = False
 
     def __post_init__(self):
         check_at_least(self, 1, "batch_size", "window")
+        if self.canonical and self.in_place:
+            raise ValueError("BatchSpec.in_place: leaves the windows where they are; set canonical=False too")
         if self.min_length is not None and not 1 <= self.min_length <= self.window:
             raise ValueError(f"BatchSpec.min_length must be in [1, window={self.window}], got {self.min_length}")
 
 
-def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
+def _tables(dataset: MotionDataset, spec: BatchSpec, labels: dict[str, np.ndarray] | None = None) -> dict:
     """The dataset as device arrays, plus what a batch gather needs; checks the spec against the data."""
     if len(dataset) == 0:
         raise ValueError(f"{dataset.name}/{dataset.split}: cannot batch an empty dataset")
@@ -225,7 +229,13 @@ def _tables(dataset: MotionDataset, spec: BatchSpec) -> dict:
     frames_of = {"joints": jnp.asarray(dataset.joints), "translation": jnp.asarray(dataset.translation)}
     if dataset.rotations is not None:
         frames_of["rotations"] = jnp.asarray(dataset.rotations)
+    extra = dict(labels or {})
+    for name, values in extra.items():
+        if np.shape(values)[:1] != (len(dataset),):
+            raise ValueError(f"labels[{name!r}]: expected one row per sequence ([{len(dataset)}, ...]), got shape "
+                             f"{np.shape(values)}")
     labels = {k: jnp.asarray(getattr(dataset, k)) for k in ("actions", "modes", "subjects")}
+    labels.update({k: jnp.asarray(v) for k, v in extra.items()})
     return {
         "frames": frames_of,
         "labels": labels,
@@ -256,10 +266,11 @@ def _gather(tables: dict, ids: jax.Array, key: jax.Array, spec: BatchSpec, hips:
             order = jax.vmap(lambda k: jax.random.permutation(k, persons))(keys)  # [B, P]
             out = {k: jnp.take_along_axis(v, order.reshape(order.shape + (1,) * (v.ndim - 2)), axis=1)
                    for k, v in out.items()}
-    move = (lambda *a: canonicalize_motion(*a, *hips)) if spec.canonical else to_origin
-    out["joints"], out["translation"], rotations = move(out["joints"], out["translation"], out.get("rotations"))
-    if rotations is not None:
-        out["rotations"] = rotations
+    if not spec.in_place:
+        move = (lambda *a: canonicalize_motion(*a, *hips)) if spec.canonical else to_origin
+        out["joints"], out["translation"], rotations = move(out["joints"], out["translation"], out.get("rotations"))
+        if rotations is not None:
+            out["rotations"] = rotations
     return {**out, "mask": mask, "lengths": seg, **{k: v[ids] for k, v in tables["labels"].items()}}
 
 
@@ -320,22 +331,23 @@ def draw_partners(key: jax.Array, ids: jax.Array, table: dict[str, jax.Array], o
     return jnp.where(same, same_partner, other_partner), same
 
 
-def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | PairSpec
-                  ) -> Callable[[int], dict[str, jax.Array]]:
+def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | PairSpec,
+                  labels: dict[str, np.ndarray] | None = None) -> Callable[[int], dict[str, jax.Array]]:
     """``step -> batch`` with static shapes, deterministic in ``(key, step)``; the dataset moves to device once.
 
     The batch is a dict: ``joints [B, T, J, 3]``, ``translation [B, T, 3]``, ``rotations [B, T, J, 3]``
     (when the dataset has them; ``[B, P, T, ...]`` for a dataset of several persons), ``mask [B, T]`` (real frames; padding repeats the segment's last frame or
     snakes, per ``spec.padding``), ``lengths [B]`` (real frames per window), ``actions``, ``modes``,
-    ``subjects`` ``[B]``. With a :class:`PairSpec`: ``{"first": batch, "second": batch, "same": [B]}``,
-    the partners' windows drawn like the first ones'.
+    ``subjects`` ``[B]``, and each of ``labels`` (per-sequence arrays ``[N, ...]``, e.g. multi-hot tags) as
+    ``[B, ...]``. With a :class:`PairSpec`: ``{"first": batch, "second": batch, "same": [B]}``, the partners'
+    windows drawn like the first ones'.
     """
     pairs = spec if isinstance(spec, PairSpec) else None
     spec = pairs.batch if pairs is not None else spec
     if spec.sampling == "epoch" and spec.batch_size > len(dataset):
         raise ValueError(f"batch_size ({spec.batch_size}) exceeds the {len(dataset)} sequences of "
                          f"{dataset.name}/{dataset.split}; use sampling='uniform' (with replacement)")
-    tables = _tables(dataset, spec)
+    tables = _tables(dataset, spec, labels)
     # Training on windows every clip only pads; gathering whole clips into a model's window (gather_windows) may.
     longest = int(np.max(dataset.lengths))
     if spec.window > longest:
@@ -367,6 +379,23 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
         return {"first": first, "second": _gather(tables, second, k_windows, spec, hips), "same": same}
 
     return batch
+
+
+def action_item_batch_fn(items: ActionItems, key: jax.Array, batch_size: int, *,
+                         sampling: Sampling = "epoch") -> Callable[[int], dict[str, jax.Array]]:
+    """``step -> batch`` of whole action items (:meth:`MotionDataset.action_items`), as Neural Marionette trains on
+    them: ``joints``, ``translation``, ``rotations`` ``[B, K + T, ...]`` (the K context frames, then the action,
+    padded after its end with its last frame to the longest item's length), ``mask [B, K + T]``, ``lengths [B]``
+    (K + the action's frames), ``tags``, ``next_tags`` ``[B, C]`` bool, ``durations [B]`` (the action's frames),
+    and the other labels of :func:`make_batch_fn`. Items stay where they are in their take (the floor at y = 0):
+    Marionette normalises at the last context frame itself
+    (:func:`~jaxmotion.geometry.kinematics.heading_transform`)."""
+    if len(items) == 0:
+        raise ValueError(f"items: {items.data.name}/{items.data.split} has no action items to batch")
+    spec = BatchSpec(batch_size=batch_size, window=int(items.data.lengths.max()), sampling=sampling,
+                     canonical=False, in_place=True)
+    return make_batch_fn(items.data, key, spec, labels={"tags": items.tags, "next_tags": items.next_tags,
+                                                        "durations": items.durations.astype(np.int32)})
 
 
 def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec: BatchSpec,

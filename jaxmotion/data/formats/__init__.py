@@ -1,4 +1,4 @@
-"""Loaders for the real files of the datasets ACTOR, Action2Motion, ODMO and ActFormer use.
+"""Loaders for the real files of the datasets ACTOR, Action2Motion, ODMO, ActFormer and Neural Marionette use.
 
 Each loader reads one dataset in the layout its authors' code reads (the module docstrings give the exact
 files and their source) and returns a :class:`~jaxmotion.data.motion.MotionDataset` in the library frame
@@ -24,6 +24,7 @@ function ``(data_root, split) -> MotionDataset``, where ``data_root`` is that da
 | ``combat-2p`` .. ``combat-5p`` | :func:`load_combat_2p` .. | ``datasets/gta`` | train = test = all | GTA-22 ×P, no |
 | ``babel120`` | :func:`load_babel120` | ``datasets/babel`` (``{train,val}120.h5``) | train, val = test | SMPL24, yes |
 | ``babel120-amass`` | :func:`load_babel120_amass` | AMASS + ``babel_v1.0_release`` | train, val = test | SMPL24, yes |
+| ``mag`` | :func:`load_babel_mag` | AMASS + ``babel_v1.0_release`` | train, test (= val) | SMPL24, yes; takes with segments |
 
 The ActFormer-data loaders (NTU-120, NTURecon, GTA Combat, BABEL) read ``.h5`` files with h5py, an optional extra
 (``pip install -e ".[h5]"``); the raw ``.skeleton`` and AMASS loaders do not need it. NTU splits are cross-subject,
@@ -36,6 +37,7 @@ and the key or field, what was expected and what was found.
 from types import MappingProxyType
 
 from jaxmotion.data.formats.babel import load_babel120, load_babel120_amass
+from jaxmotion.data.formats.babel_mag import load_babel_mag
 from jaxmotion.data.formats.cmu_mocap import load_cmu_mocap, load_cmu_mocap7
 from jaxmotion.data.formats.gta_combat import (
     load_combat_2p,
@@ -81,11 +83,12 @@ REAL_LOADERS = MappingProxyType({
     "combat-5p": load_combat_5p,
     "babel120": load_babel120,
     "babel120-amass": load_babel120_amass,
+    "mag": load_babel_mag,
 })
 
 __all__ = [
-    "REAL_LOADERS", "load_babel120", "load_babel120_amass", "load_cmu_mocap", "load_cmu_mocap7", "load_combat_2p",
-    "load_combat_3p", "load_combat_4p", "load_combat_5p", "load_gta_combat", "load_humanact12_joints",
+    "REAL_LOADERS", "load_babel120", "load_babel120_amass", "load_babel_mag", "load_cmu_mocap", "load_cmu_mocap7",
+    "load_combat_2p", "load_combat_3p", "load_combat_4p", "load_combat_5p", "load_gta_combat", "load_humanact12_joints",
     "load_humanact12poses", "load_ntu13", "load_ntu13_smpl", "load_ntu1p", "load_ntu1p_skeletons",
     "load_ntu1p_xview", "load_ntu2p", "load_ntu2p_skeletons", "load_ntu2p_xview", "load_ntu_prepared",
     "load_ntu_recon", "load_ntu_skeletons", "load_uestc",

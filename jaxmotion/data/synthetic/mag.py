@@ -1,7 +1,7 @@
 """synth-mag: BABEL-MAG's 31 tags (Neural Marionette) as actions of continuous multi-action takes.
 
-**Tags** (the paper's supplement, Table 1): 7 intention tags that move the root, 17 intention tags in place, 3 body
-states and 4 body-part movements, in the paper's order and ids. An intention action carries its one tag; a
+**Tags** (:mod:`jaxmotion.data.mag_tags`, the paper's supplement, Table 1): 7 intention tags that move the root, 17
+intention tags in place, 3 body states and 4 body-part movements, in the paper's order and ids. An intention action carries its one tag; a
 non-intention action carries a body state and zero or more body parts (multi-hot), as BABEL-MAG's tagging
 protocol has it (its per-tag counts sum to 8,924 over 7,643 actions: every body-part tag rides on a body state).
 Leg and waist movements come with standing only (they need the stance); head and arm movements with any state.
@@ -23,25 +23,23 @@ straight and curving, backwards, sideways, up and down steps, runs, jumps); in-p
 body), "Using Object and Sit" (using an object, seated) and "Step and Touch Body Part" (a step, the upper body
 touching). A body state with body parts is performed as the body part that needs the stance (leg, waist) or the
 state, with the other parts' joints taken from their own performance. Durations per tag are drawn from
-:data:`Tag.seconds` (the paper's examples run 1.1-3.0 s; most here 1-4 s); 30 fps; 40 performers.
+:data:`SECONDS` (the paper's examples run 1.1-3.0 s; most here 1-4 s); 30 fps; 40 performers.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import zlib
 from collections.abc import Callable
-from typing import Literal
 
 import numpy as np
 
+from jaxmotion.data.mag_tags import TAG_NAMES, TAGS
 from jaxmotion.data.synthetic import babel120, skills
 from jaxmotion.data.synthetic.chain import PlannedAction, TakePlan
 from jaxmotion.data.synthetic.engine import ActionClass
 from jaxmotion.data.synthetic.take import Take
 from jaxmotion.geometry.skeletons import SMPL24
 
-Kind = Literal["root", "in place", "state", "body part"]
 #: The paper's action counts are used as they are.
 SCALE = 1.0
 FPS = 30.0
@@ -52,51 +50,17 @@ LEAD_IN_FRAMES = (8, 30)
 _PLAN_STREAM = 2_000_003  # keeps the planner's generator apart from the takes'
 
 
-@dataclasses.dataclass(frozen=True)
-class Tag:
-    """One of BABEL-MAG's tags: its name, kind, the paper's count and (for tags that lead an action) its
-    duration range in seconds."""
-
-    name: str
-    kind: Kind
-    count: int
-    seconds: tuple[float, float] | None
-
-
-TAGS = (
-    Tag("Walk", "root", 1370, (1.5, 4.0)),
-    Tag("Walk Backward", "root", 160, (1.5, 3.0)),
-    Tag("Walk Sideway", "root", 105, (1.5, 3.0)),
-    Tag("Walk Upward/Downward", "root", 272, (2.0, 4.0)),
-    Tag("Step", "root", 536, (1.0, 2.5)),
-    Tag("Run", "root", 198, (1.5, 3.5)),
-    Tag("Jump", "root", 168, (1.2, 2.5)),
-    Tag("Turn", "in place", 1063, (1.0, 2.5)),
-    Tag("Sit Down", "in place", 86, (2.0, 3.5)),
-    Tag("Stand Up", "in place", 123, (2.0, 3.5)),
-    Tag("Using Object", "in place", 227, (2.0, 4.0)),
-    Tag("Take Something Up", "in place", 375, (2.0, 3.5)),
-    Tag("Place Something Down", "in place", 261, (2.0, 3.5)),
-    Tag("Move Something", "in place", 102, (2.0, 4.0)),
-    Tag("Throw", "in place", 143, (1.5, 3.0)),
-    Tag("Touch Something", "in place", 301, (1.5, 3.0)),
-    Tag("Kick", "in place", 91, (1.2, 2.5)),
-    Tag("Punch", "in place", 69, (1.2, 3.0)),
-    Tag("Wave Hand", "in place", 29, (1.5, 3.0)),
-    Tag("Stretch", "in place", 410, (2.0, 4.0)),
-    Tag("Crossing Limbs", "in place", 33, (1.5, 3.0)),
-    Tag("Touch Body Part", "in place", 200, (1.5, 3.0)),
-    Tag("Using Object and Sit", "in place", 39, (2.0, 4.0)),
-    Tag("Step and Touch Body Part", "in place", 54, (2.0, 3.5)),
-    Tag("Stand", "state", 754, (1.0, 3.0)),
-    Tag("Bend", "state", 149, (1.5, 3.5)),
-    Tag("Sit", "state", 325, (1.5, 3.5)),
-    Tag("Head Movement", "body part", 199, None),
-    Tag("Arm Movement", "body part", 859, None),
-    Tag("Waist Movement", "body part", 30, None),
-    Tag("Leg Movement", "body part", 193, None),
-)
-TAG_NAMES = tuple(t.name for t in TAGS)
+#: Seconds an action led by each tag lasts (drawn uniformly; the paper's examples run 1.1-3.0 s).
+SECONDS = {
+    "Walk": (1.5, 4.0), "Walk Backward": (1.5, 3.0), "Walk Sideway": (1.5, 3.0), "Walk Upward/Downward": (2.0, 4.0),
+    "Step": (1.0, 2.5), "Run": (1.5, 3.5), "Jump": (1.2, 2.5), "Turn": (1.0, 2.5), "Sit Down": (2.0, 3.5),
+    "Stand Up": (2.0, 3.5), "Using Object": (2.0, 4.0), "Take Something Up": (2.0, 3.5),
+    "Place Something Down": (2.0, 3.5), "Move Something": (2.0, 4.0), "Throw": (1.5, 3.0),
+    "Touch Something": (1.5, 3.0), "Kick": (1.2, 2.5), "Punch": (1.2, 3.0), "Wave Hand": (1.5, 3.0),
+    "Stretch": (2.0, 4.0), "Crossing Limbs": (1.5, 3.0), "Touch Body Part": (1.5, 3.0),
+    "Using Object and Sit": (2.0, 4.0), "Step and Touch Body Part": (2.0, 3.5), "Stand": (1.0, 3.0),
+    "Bend": (1.5, 3.5), "Sit": (1.5, 3.5),
+}
 _ID = {name: i for i, name in enumerate(TAG_NAMES)}
 
 #: The BABEL-120 stand-in's category each tag is performed as.
@@ -308,7 +272,7 @@ def plan_takes(split: str, seed: int) -> tuple[TakePlan, ...]:
         for k, tag in enumerate(take):
             tags = (tag, *sorted(parts.get((i, k), ()), key=_ID.get))
             perform, mode, index = _action(tags, rng)
-            low, high = TAGS[_ID[tag]].seconds
+            low, high = SECONDS[tag]
             frames = int(round(rng.uniform(low, high) * FPS))
             actions.append(PlannedAction(perform, mode, frames, tuple(_ID[t] for t in tags), index))
         seated = take[0] in STARTS_SEATED

@@ -1,0 +1,279 @@
+"""``mag``: BABEL-MAG (Neural Marionette's data) rebuilt from BABEL's own files, as takes of tagged actions.
+
+Neural Marionette relabelled BABEL's frame labels of 40 categories into 31 tags ("intention first": an action with a
+clear goal gets one intention tag; otherwise a body state and the body parts that move) and resolved the overlaps
+by hand; neither the 40 categories, the relabelling nor the data were released. This loader applies a documented
+map instead (:data:`TAG_MAP`: every BABEL category with a tag, and why; a user's JSON ``{category: tag or null}``
+replaces it) and a fixed rule for overlapping labels, so its actions are a reconstruction, not the paper's set.
+
+**Files** (as ``babel120-amass`` reads them)::
+
+    <data_root>/amass/rawdata/<feat_p without its first folder>    AMASS .npz: poses, trans, mocap_framerate
+    <data_root>/babel_v1.0_release/{train,val}.json               BABEL annotations (frame_ann)
+
+``"train"`` reads ``train.json``, ``"test"`` ``val.json`` (BABEL's test labels are not public; the paper draws 20%
+of each tag, at most 100, from its own set, which cannot be reproduced without it).
+
+**Per sequence** (one take): the SMPL-H body pose (root + 21 joints, SMPL's hands at rest) and translation,
+resampled to 30 fps as for BABEL-120 (:func:`~jaxmotion.data.formats.babel.resample_cubic`), turned into the library
+frame (y up), joints by the template's forward kinematics; translation absolute (a take is one continuous motion).
+Then its actions from ``frame_ann`` (sequences with only ``seq_ann`` have no frame labels and are skipped):
+
+1. each label's categories get their tags (:data:`TAG_MAP`; "sit" is "Sit Down" when the root ends the label at
+   least :data:`SIT_DESCENT` m lower than it starts it, else the state "Sit"); categories without a tag are
+   dropped and counted;
+2. each frame gets the tags of every label covering it: one intention tag wins over states and body parts; two
+   different intention tags are ambiguous (the frame gets none, counted); otherwise one state with the body parts
+   (body parts with no state are taken as standing: "Stand"; two states are ambiguous);
+3. each run of frames with the same tags is an action; runs shorter than :data:`MIN_FRAMES` are dropped (counted).
+   An action's next tags are those of the action right after it (within :data:`MAX_GAP` frames), else its own.
+
+A label starting after its end, or ending past the sequence's end by more than a frame, is an error naming the file
+and the label; so are missing keys and non-finite poses. What was dropped is returned by :func:`read_babel_mag` and
+printed by the loader.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from collections import Counter
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from jaxmotion.data.formats._common import check_split
+from jaxmotion.data.formats.babel import (AMASS_DIR, AMASS_TO_LIBRARY, BABEL_DIR, FPS, _get, _read_amass, _read_json,
+                                          resample_cubic, smpl_features, zoomed_frames)
+from jaxmotion.data.formats.ntu_recon import smpl_motions
+from jaxmotion.data.motion import MotionDataset, pack
+from jaxmotion.data.segments import Segments, concatenate_segments
+from jaxmotion.data.mag_tags import KINDS, TAG_NAMES
+from jaxmotion.geometry.skeletons import SMPL24
+
+#: Root descent (m) over a "sit" label that makes it "Sit Down" rather than the state "Sit".
+SIT_DESCENT = 0.15
+#: Shortest action kept (frames at 30 fps).
+MIN_FRAMES = 10
+#: Frames between two actions for the second still to be the first's next action.
+MAX_GAP = 15
+
+#: BABEL category -> (MAG tag, or None for no tag; why). Written from the paper's tag definitions (its supplement's
+#: Table 1 and §2.1: intention first, then body state and body parts); the paper's own 40 categories are unpublished.
+TAG_MAP: Mapping[str, tuple[str | None, str]] = {
+    "walk": ("Walk", "the tag's own name"),
+    "forward movement": ("Walk", "moving forward on foot, the common case walking"),
+    "backwards movement": ("Walk Backward", "moving backward on foot"),
+    "sideways movement": ("Walk Sideway", "moving sideways on foot"),
+    "move up/down incline": ("Walk Upward/Downward", "walking up or down stairs or a slope"),
+    "step": ("Step", "the tag's own name"),
+    "run": ("Run", "the tag's own name"),
+    "jog": ("Run", "a slow run: the root moves as in running"),
+    "jump": ("Jump", "the tag's own name"),
+    "hop": ("Jump", "a jump on one leg"),
+    "turn": ("Turn", "the tag's own name"),
+    "sit": ("Sit", "the state; 'Sit Down' when the root descends (SIT_DESCENT)"),
+    "stand up": ("Stand Up", "the tag's own name"),
+    "interact with/use object": ("Using Object", "the tag's own meaning"),
+    "take/pick something up": ("Take Something Up", "the tag's own meaning"),
+    "lift something": ("Take Something Up", "taking something up from where it lies"),
+    "grasp object": ("Take Something Up", "taking hold of something"),
+    "place something": ("Place Something Down", "the tag's own meaning"),
+    "move something": ("Move Something", "the tag's own name"),
+    "throw": ("Throw", "the tag's own name"),
+    "touch object": ("Touch Something", "the tag's own meaning"),
+    "kick": ("Kick", "the tag's own name"),
+    "punch": ("Punch", "the tag's own name"),
+    "wave": ("Wave Hand", "the tag's own meaning"),
+    "stretch": ("Stretch", "the tag's own name"),
+    "crossing limbs": ("Crossing Limbs", "the tag's own name"),
+    "touching body part": ("Touch Body Part", "the tag's own meaning"),
+    "touching face": ("Touch Body Part", "the face is a body part"),
+    "scratch": ("Touch Body Part", "a hand touching the body"),
+    "stand": ("Stand", "the state's own name"),
+    "t pose": ("Stand", "standing, arms out: a standing state"),
+    "a pose": ("Stand", "standing, arms down at an angle: a standing state"),
+    "bend": ("Bend", "the state's own name"),
+    "head movements": ("Head Movement", "the body part's own name"),
+    "look": ("Head Movement", "the head turns to look"),
+    "arm movements": ("Arm Movement", "the body part's own name"),
+    "hand movements": ("Arm Movement", "hands move with the arms (the tags have no hand)"),
+    "gesture": ("Arm Movement", "a gesture is made with the arms and hands, no intention tag fits"),
+    "waist movements": ("Waist Movement", "the body part's own name"),
+    "leg movements": ("Leg Movement", "the body part's own name"),
+    "knee movement": ("Leg Movement", "the knee is part of the leg"),
+    "foot movements": ("Leg Movement", "the foot moves with the leg"),
+    "raising body part": (None, "which part (arm, leg) is not said: ambiguous"),
+    "lowering body part": (None, "which part is not said: ambiguous"),
+    "swing body part": (None, "which part is not said: ambiguous"),
+    "circular movement": (None, "walking a circle or circling the arms: ambiguous"),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class MagReport:
+    """What :func:`read_babel_mag` kept and left out, and why."""
+
+    takes: int
+    actions: int
+    no_tag: Counter  # category -> labels whose category has no tag
+    ambiguous_frames: int  # frames under labels of two intentions or two states
+    short_actions: int  # runs under MIN_FRAMES
+    skipped_sequences: int  # sequences without frame labels
+
+    def __str__(self) -> str:
+        untagged = ", ".join(f"{c} ({n})" for c, n in self.no_tag.most_common(8))
+        return (f"{self.takes} takes, {self.actions} actions; left out: {sum(self.no_tag.values())} labels of "
+                f"categories without a tag ({untagged or 'none'}), {self.ambiguous_frames} frames of ambiguous "
+                f"overlaps, {self.short_actions} runs under {MIN_FRAMES} frames, {self.skipped_sequences} sequences "
+                f"without frame labels")
+
+
+def read_tag_map(path: str | Path) -> dict[str, str | None]:
+    """A user's ``{category: tag or null}`` JSON; every tag must be one of the 31."""
+    path = Path(path)
+    mapping = _read_json(path, "BABEL-MAG tag map")
+    if not isinstance(mapping, dict):
+        raise ValueError(f"{path}: expected a JSON object from BABEL category to tag, got {type(mapping).__name__}")
+    for category, tag in mapping.items():
+        if tag is not None and tag not in TAG_NAMES:
+            raise ValueError(f"{path}: {category!r}: expected one of the 31 tags or null, got {tag!r}")
+    return dict(mapping)
+
+
+def resolve_actions(labels: list[tuple[int, int, tuple[str, ...]]], frames: int
+                    ) -> tuple[list[tuple[int, int, tuple[int, ...]]], int, int]:
+    """``labels``: ``(start, end, tags)`` per label of a sequence of ``frames`` frames -> ``(actions as (start, end,
+    tag ids), ambiguous frames, short runs dropped)``, by the rules of the module docstring (steps 2-3)."""
+    kind = KINDS
+    covering = [[] for _ in range(frames)]
+    for start, end, tags in labels:
+        for f in range(start, end):
+            covering[f].extend(tags)
+    resolved: list[tuple[int, ...] | None] = []
+    ambiguous = 0
+    for tags in covering:
+        present = set(tags)
+        intentions = {t for t in present if kind[t] in ("root", "in place")}
+        states = {t for t in present if kind[t] == "state"}
+        parts = {t for t in present if kind[t] == "body part"}
+        if len(intentions) == 1:
+            chosen = tuple(intentions)
+        elif intentions or len(states) > 1:
+            chosen = None
+            ambiguous += 1
+        elif states or parts:
+            chosen = (*(states or {"Stand"}), *sorted(parts))
+        else:
+            chosen = None
+        resolved.append(None if chosen is None else tuple(sorted(TAG_NAMES.index(t) for t in chosen)))
+    actions, short = [], 0
+    start = 0
+    for f in range(1, frames + 1):
+        if f == frames or resolved[f] != resolved[start]:
+            if resolved[start] is not None:
+                if f - start >= MIN_FRAMES:
+                    actions.append((start, f, resolved[start]))
+                else:
+                    short += 1
+            start = f
+    return actions, ambiguous, short
+
+
+def _labels(sequence: dict, frames: int, root_height: np.ndarray, tag_map: Mapping[str, str | None], *,
+            file: Path, sid: str, no_tag: Counter) -> list[tuple[int, int, tuple[str, ...]]] | None:
+    """A sequence's frame labels as ``(start, end, tags)`` at 30 fps, None without frame labels."""
+    frame_ann = _get(sequence, "frame_ann", file=file, where=f"[{sid!r}]")
+    if frame_ann is None:
+        return None
+    labels = _get(frame_ann, "labels", file=file, where=f"[{sid!r}]['frame_ann']")
+    if not isinstance(labels, list):
+        raise ValueError(f"{file}: [{sid!r}]['frame_ann']['labels']: expected a list, got {type(labels).__name__}")
+    out = []
+    for index, label in enumerate(labels):
+        where = f"[{sid!r}]['frame_ann']['labels'][{index}]"
+        categories = _get(label, "act_cat", file=file, where=where) or []
+        if not isinstance(categories, list) or not all(isinstance(c, str) for c in categories):
+            raise ValueError(f"{file}: {where}['act_cat']: expected a list of category names, got {categories!r}")
+        times = [_get(label, k, file=file, where=where) for k in ("start_t", "end_t")]
+        if not all(isinstance(t, (int, float)) and not isinstance(t, bool) and np.isfinite(t) for t in times):
+            raise ValueError(f"{file}: {where}: expected numbers start_t and end_t (seconds), got {times}")
+        if times[0] > times[1]:
+            raise ValueError(f"{file}: {where}: start_t {times[0]} s is after end_t {times[1]} s")
+        if times[1] * FPS > frames + 1:
+            raise ValueError(f"{file}: {where}['end_t']: {times[1]} s is past the sequence's end ({frames / FPS:.2f} s "
+                             f"at {FPS:g} fps)")
+        start, end = max(0, int(times[0] * FPS)), min(frames, int(times[1] * FPS))
+        tags = []
+        for category in sorted(set(categories)):
+            tag = tag_map.get(category)
+            if tag is None:
+                no_tag[category] += 1
+                continue
+            if tag == "Sit" and end - start >= 2 and root_height[start] - root_height[end - 1] >= SIT_DESCENT:
+                tag = "Sit Down"
+            tags.append(tag)
+        if tags and end > start:
+            out.append((start, end, tuple(tags)))
+    return out
+
+
+def read_babel_mag(root: str | Path, split: str = "train", *, tag_map: str | Path | None = None
+                   ) -> tuple[MotionDataset, MagReport]:
+    """The takes of ``split`` with their segments, and what was left out (module docstring)."""
+    check_split(split, ("train", "test"), "mag", "'test' reads BABEL's val split (its test labels are not public)")
+    root = Path(root)
+    mapping = {c: tag for c, (tag, _) in TAG_MAP.items()} if tag_map is None else read_tag_map(tag_map)
+    json_path = root / BABEL_DIR / f"{'train' if split == 'train' else 'val'}.json"
+    annotations = _read_json(json_path, "BABEL annotations")
+    if not isinstance(annotations, dict):
+        raise ValueError(f"{json_path}: expected a JSON object of sequences, got {type(annotations).__name__}")
+    keys, features, tables = [], [], []
+    no_tag, ambiguous, short, skipped = Counter(), 0, 0, 0
+    for sid, sequence in annotations.items():
+        feat_p = _get(sequence, "feat_p", file=json_path, where=f"[{sid!r}]")
+        if not isinstance(feat_p, str) or "/" not in feat_p:
+            raise ValueError(f"{json_path}: [{sid!r}]['feat_p']: expected a path '<dataset>/...npz', got {feat_p!r}")
+        poses, trans, rate = _read_amass(root / AMASS_DIR / feat_p.split("/", 1)[1])
+        frames = zoomed_frames(len(poses), FPS / rate)
+        resampled = resample_cubic(np.concatenate([poses, trans], axis=1), frames)
+        poses, trans = resampled[:, :72].reshape(-1, 24, 3), resampled[:, 72:]
+        height = trans @ np.asarray(AMASS_TO_LIBRARY)[1]  # the library's up component
+        labels = _labels(sequence, frames, height, mapping, file=json_path, sid=sid, no_tag=no_tag)
+        if labels is None:
+            skipped += 1
+            continue
+        actions, ambiguous_frames, short_runs = resolve_actions(labels, frames)
+        ambiguous, short = ambiguous + ambiguous_frames, short + short_runs
+        if not actions:
+            continue
+        keys.append(str(sid))
+        features.append(smpl_features(poses, trans))
+        tables.append(_segments(actions))
+    motions = smpl_motions(keys, features, AMASS_TO_LIBRARY, [int(t.primary[0]) for t in tables], [-1] * len(keys))
+    data = pack(motions, name="mag", split=split, class_names=TAG_NAMES, skeleton=SMPL24, fps=FPS)
+    data = dataclasses.replace(data, segments=concatenate_segments(tables, [1] * len(tables)) if tables
+                               else Segments.empty(len(TAG_NAMES)))
+    report = MagReport(len(keys), len(data.segments), no_tag, ambiguous, short, skipped)
+    return data, report
+
+
+def _segments(actions: list[tuple[int, int, tuple[int, ...]]]) -> Segments:
+    """One take's actions -> its table; the next action's tags where it follows within MAX_GAP, else its own."""
+    flags = np.zeros((len(actions), 2, len(TAG_NAMES)), bool)
+    for row, (start, end, tags) in enumerate(actions):
+        flags[row, 0, list(tags)] = True
+        follows = row + 1 < len(actions) and actions[row + 1][0] - end <= MAX_GAP
+        flags[row, 1, list(actions[row + 1][2] if follows else tags)] = True
+    column = (lambda k: np.array([a[k] for a in actions], np.int32))
+    return Segments(np.zeros(len(actions), np.int32), column(0), column(1), flags[:, 0], flags[:, 1],
+                    np.full(len(actions), -1, np.int32))
+
+
+def load_babel_mag(root: str | Path, split: str = "train") -> MotionDataset:
+    """``mag``: BABEL-MAG rebuilt from AMASS and BABEL under ``root`` (module docstring); prints what it left out."""
+    data, report = read_babel_mag(root, split)
+    print(f"[data] mag/{split} from {root}: {report}", file=sys.stderr)
+    return data
+
