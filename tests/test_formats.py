@@ -522,6 +522,7 @@ def test_real_loaders_registry_is_read_only_and_complete(tmp_path):
         "humanact12", "humanact12-joints", "uestc", "ntu13", "ntu13-smpl", "cmu", "cmu7",  # ACTOR, A2M, ODMO
         "ntu1p", "ntu2p", "ntu1p-xview", "ntu2p-xview", "ntu1p-skeletons", "ntu2p-skeletons", "ntu1p-smpl",
         "combat-2p", "combat-3p", "combat-4p", "combat-5p", "babel120", "babel120-amass",  # ActFormer
+        "mag",  # Neural Marionette
     }
     with pytest.raises(TypeError):
         REAL_LOADERS["extra"] = load_uestc  # type: ignore[index]

@@ -207,3 +207,14 @@ def test_action_items_batch_whole_with_their_tags_and_padding_masks(sample):
         np.testing.assert_array_equal(batch["next_tags"][row], items.next_tags[i])
         assert int(batch["durations"][row]) == items.durations[i] == n - CONTEXT_FRAMES
         np.testing.assert_array_equal(batch["mask"][row], np.arange(longest) < n)
+
+
+def test_root_motion_tags_travel_and_in_place_tags_stay_near_a_spot(sample):
+    from jaxmotion.data.mag_tags import KINDS
+
+    items = sample.action_items(0)
+    travel = np.array([np.linalg.norm(p[-1] - p[0]) for p in items.ground_paths()])
+    kinds = np.array([KINDS[mag.TAG_NAMES[t]] for t in sample.segments.primary])
+    root, still = travel[kinds == "root"], travel[np.isin(kinds, ("in place", "state"))]
+    assert len(root) >= 5 and len(still) >= 10
+    assert np.median(root) > 1.0 and np.median(still) < 0.3

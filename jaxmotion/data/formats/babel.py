@@ -64,6 +64,7 @@ from __future__ import annotations
 import json
 import zipfile
 import zlib
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Literal
 
@@ -269,6 +270,40 @@ def _read_amass(path: Path) -> tuple[np.ndarray, np.ndarray, float]:
     return body, trans, float(rate.item())
 
 
+def babel_sequences(json_path: Path, root: Path) -> Iterator[tuple[str, dict, np.ndarray, np.ndarray]]:
+    """Each sequence of the BABEL annotations ``json_path`` with its AMASS motion (under ``root``) at 30 fps, in the
+    file's order: ``(sid, annotation, poses [T, 24, 3] axis-angle, trans [T, 3])`` in AMASS's frame (module
+    docstring)."""
+    annotations = _read_json(json_path, "BABEL annotations")
+    if not isinstance(annotations, dict):
+        raise ValueError(f"{json_path}: expected a JSON object of sequences, got {type(annotations).__name__}")
+    for sid, sequence in annotations.items():
+        feat_p = _get(sequence, "feat_p", file=json_path, where=f"[{sid!r}]")
+        if not isinstance(feat_p, str) or "/" not in feat_p:
+            raise ValueError(f"{json_path}: [{sid!r}]['feat_p']: expected a path '<dataset>/...npz', got {feat_p!r}")
+        poses, trans, rate = _read_amass(root / AMASS_DIR / feat_p.split("/", 1)[1])
+        resampled = resample_cubic(np.concatenate([poses, trans], axis=1), zoomed_frames(len(poses), FPS / rate))
+        yield str(sid), sequence, resampled[:, :72].reshape(-1, 24, 3), resampled[:, 72:]
+
+
+def annotation_labels(annotation: object, *, file: Path, where: str) -> Iterator[tuple[int, str, dict]]:
+    """``(index, where, label)`` for each label of a BABEL ``frame_ann`` or ``seq_ann`` (at ``where`` in ``file``)."""
+    labels = _get(annotation, "labels", file=file, where=where)
+    if not isinstance(labels, list):
+        raise ValueError(f"{file}: {where}['labels']: expected a list, got {type(labels).__name__}")
+    for index, label in enumerate(labels):
+        yield index, f"{where}['labels'][{index}]", label
+
+
+def label_categories(label: object, *, file: Path, where: str) -> list[str] | None:
+    """A label's ``act_cat``: its category names, or None where BABEL gives none."""
+    categories = _get(label, "act_cat", file=file, where=where)
+    if categories is not None and (not isinstance(categories, list) or not all(isinstance(c, str)
+                                                                                  for c in categories)):
+        raise ValueError(f"{file}: {where}['act_cat']: expected a list of category names, got {categories!r}")
+    return categories
+
+
 def babel_segments(sequence: dict, frames: int, label_map: dict[str, int], *, file: Path,
                    sid: str) -> list[tuple[str, int, int, int]]:
     """ActFormer's segments of one BABEL sequence of ``frames`` frames at 30 fps: ``(key, label, start, end)``
@@ -276,17 +311,11 @@ def babel_segments(sequence: dict, frames: int, label_map: dict[str, int], *, fi
     frame_ann = _get(sequence, "frame_ann", file=file, where=f"[{sid!r}]")
     level, annotation = ("frame_ann", frame_ann) if frame_ann is not None else (
         "seq_ann", _get(sequence, "seq_ann", file=file, where=f"[{sid!r}]"))
-    labels = _get(annotation, "labels", file=file, where=f"[{sid!r}][{level!r}]")
-    if not isinstance(labels, list):
-        raise ValueError(f"{file}: [{sid!r}][{level!r}]['labels']: expected a list, got {type(labels).__name__}")
     segments = []
-    for index, label in enumerate(labels):
-        where = f"[{sid!r}][{level!r}]['labels'][{index}]"
-        categories = _get(label, "act_cat", file=file, where=where)
+    for index, where, label in annotation_labels(annotation, file=file, where=f"[{sid!r}][{level!r}]"):
+        categories = label_categories(label, file=file, where=where)
         if categories is None:
             continue
-        if not isinstance(categories, list) or not all(isinstance(c, str) for c in categories):
-            raise ValueError(f"{file}: {where}['act_cat']: expected a list of category names, got {categories!r}")
         for category in sorted(set(categories)):
             if category not in label_map or label_map[category] >= NUM_CLASSES:
                 continue
@@ -326,20 +355,10 @@ def load_babel120_amass(root: str | Path, split: str = "train", *, label_map: st
         mapping, class_names = {c: i for i, c in enumerate(CATEGORIES)}, CATEGORIES
     else:
         mapping, class_names = read_label_map(map_file)
-    annotations = _read_json(json_path, "BABEL annotations")
-    if not isinstance(annotations, dict):
-        raise ValueError(f"{json_path}: expected a JSON object of sequences, got {type(annotations).__name__}")
     keys, labels, clips = [], [], []
-    for sid, sequence in annotations.items():
-        feat_p = _get(sequence, "feat_p", file=json_path, where=f"[{sid!r}]")
-        if not isinstance(feat_p, str) or "/" not in feat_p:
-            raise ValueError(f"{json_path}: [{sid!r}]['feat_p']: expected a path '<dataset>/...npz', got {feat_p!r}")
-        poses, trans, rate = _read_amass(root / AMASS_DIR / feat_p.split("/", 1)[1])
-        frames = zoomed_frames(len(poses), FPS / rate)
-        resampled = resample_cubic(np.concatenate([poses, trans], axis=1), frames)
-        poses, trans = resampled[:, :72].reshape(-1, 24, 3), resampled[:, 72:]
+    for sid, sequence, poses, trans in babel_sequences(json_path, root):
         working = trans.copy()  # "code": de-meaned in place, segment by segment
-        for key, label, start, end in babel_segments(sequence, frames, mapping, file=json_path, sid=sid):
+        for key, label, start, end in babel_segments(sequence, len(poses), mapping, file=json_path, sid=sid):
             source = working if overlap == "code" else trans.copy()
             source[start:end] -= source[start:end].mean(axis=0)
             keys.append(key)

@@ -44,8 +44,8 @@ from pathlib import Path
 import numpy as np
 
 from jaxmotion.data.formats._common import check_split
-from jaxmotion.data.formats.babel import (AMASS_DIR, AMASS_TO_LIBRARY, BABEL_DIR, FPS, _get, _read_amass, _read_json,
-                                          resample_cubic, smpl_features, zoomed_frames)
+from jaxmotion.data.formats.babel import (AMASS_TO_LIBRARY, BABEL_DIR, FPS, _get, _read_json, annotation_labels,
+                                          babel_sequences, label_categories, smpl_features)
 from jaxmotion.data.formats.ntu_recon import smpl_motions
 from jaxmotion.data.motion import MotionDataset, pack
 from jaxmotion.data.segments import Segments, concatenate_segments
@@ -187,15 +187,9 @@ def _labels(sequence: dict, frames: int, root_height: np.ndarray, tag_map: Mappi
     frame_ann = _get(sequence, "frame_ann", file=file, where=f"[{sid!r}]")
     if frame_ann is None:
         return None
-    labels = _get(frame_ann, "labels", file=file, where=f"[{sid!r}]['frame_ann']")
-    if not isinstance(labels, list):
-        raise ValueError(f"{file}: [{sid!r}]['frame_ann']['labels']: expected a list, got {type(labels).__name__}")
     out = []
-    for index, label in enumerate(labels):
-        where = f"[{sid!r}]['frame_ann']['labels'][{index}]"
-        categories = _get(label, "act_cat", file=file, where=where) or []
-        if not isinstance(categories, list) or not all(isinstance(c, str) for c in categories):
-            raise ValueError(f"{file}: {where}['act_cat']: expected a list of category names, got {categories!r}")
+    for _, where, label in annotation_labels(frame_ann, file=file, where=f"[{sid!r}]['frame_ann']"):
+        categories = label_categories(label, file=file, where=where) or []
         times = [_get(label, k, file=file, where=where) for k in ("start_t", "end_t")]
         if not all(isinstance(t, (int, float)) and not isinstance(t, bool) and np.isfinite(t) for t in times):
             raise ValueError(f"{file}: {where}: expected numbers start_t and end_t (seconds), got {times}")
@@ -226,19 +220,10 @@ def read_babel_mag(root: str | Path, split: str = "train", *, tag_map: str | Pat
     root = Path(root)
     mapping = {c: tag for c, (tag, _) in TAG_MAP.items()} if tag_map is None else read_tag_map(tag_map)
     json_path = root / BABEL_DIR / f"{'train' if split == 'train' else 'val'}.json"
-    annotations = _read_json(json_path, "BABEL annotations")
-    if not isinstance(annotations, dict):
-        raise ValueError(f"{json_path}: expected a JSON object of sequences, got {type(annotations).__name__}")
     keys, features, tables = [], [], []
     no_tag, ambiguous, short, skipped = Counter(), 0, 0, 0
-    for sid, sequence in annotations.items():
-        feat_p = _get(sequence, "feat_p", file=json_path, where=f"[{sid!r}]")
-        if not isinstance(feat_p, str) or "/" not in feat_p:
-            raise ValueError(f"{json_path}: [{sid!r}]['feat_p']: expected a path '<dataset>/...npz', got {feat_p!r}")
-        poses, trans, rate = _read_amass(root / AMASS_DIR / feat_p.split("/", 1)[1])
-        frames = zoomed_frames(len(poses), FPS / rate)
-        resampled = resample_cubic(np.concatenate([poses, trans], axis=1), frames)
-        poses, trans = resampled[:, :72].reshape(-1, 24, 3), resampled[:, 72:]
+    for sid, sequence, poses, trans in babel_sequences(json_path, root):
+        frames = len(poses)
         height = trans @ np.asarray(AMASS_TO_LIBRARY)[1]  # the library's up component
         labels = _labels(sequence, frames, height, mapping, file=json_path, sid=sid, no_tag=no_tag)
         if labels is None:
@@ -248,7 +233,7 @@ def read_babel_mag(root: str | Path, split: str = "train", *, tag_map: str | Pat
         ambiguous, short = ambiguous + ambiguous_frames, short + short_runs
         if not actions:
             continue
-        keys.append(str(sid))
+        keys.append(sid)
         features.append(smpl_features(poses, trans))
         tables.append(_segments(actions))
     motions = smpl_motions(keys, features, AMASS_TO_LIBRARY, [int(t.primary[0]) for t in tables], [-1] * len(keys))
