@@ -26,6 +26,7 @@ from jaxmotion.geometry.body import BodyModel, body_forward_rotmats
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import to_matrix
 from jaxmotion.geometry.skeletons import Skeleton
+from jaxmotion.losses.core import kl_to_standard_normal, masked_mse
 
 
 @dataclasses.dataclass(frozen=True)
@@ -38,21 +39,6 @@ class ActorLossWeights:
     joints: float = 0.0  # L_J
     vertices: float = 0.0  # L_V, needs a body model
     kl: float = 1e-5  # λ_KL
-
-
-def masked_mse(prediction: jax.Array, target: jax.Array, mask: jax.Array) -> jax.Array:
-    """Mean squared error over the real frames: ``[B, T, ...]`` twice and ``mask [B, T]`` -> scalar."""
-    if prediction.shape != target.shape or mask.shape != prediction.shape[:2]:
-        raise ValueError(f"masked_mse: expected prediction and target of one shape [B, T, ...] and mask [B, T], "
-                         f"got {tuple(prediction.shape)}, {tuple(target.shape)}, {tuple(mask.shape)}")
-    squared = ((prediction - target) ** 2).reshape(*mask.shape, -1)
-    per_frame = squared.shape[-1]
-    return jnp.sum(squared * mask[..., None]) / (jnp.maximum(mask.sum(), 1) * per_frame)
-
-
-def kl_to_standard_normal(mu: jax.Array, logvar: jax.Array) -> jax.Array:
-    """``KL(N(mu, exp(logvar)) || N(0, I))`` summed over batch and dimensions: ``[B, d]`` twice -> scalar."""
-    return -0.5 * jnp.sum(1.0 + logvar - mu**2 - jnp.exp(logvar))
 
 
 def root_centred_joints(x: jax.Array, rep: str, skeleton: Skeleton) -> jax.Array:
