@@ -190,10 +190,10 @@ def test_preview_draws_a_take_with_its_timeline_and_the_transition_matrix(sample
 def test_action_items_batch_whole_with_their_tags_and_padding_masks(sample):
     import jax
 
-    from jaxmotion.data.pipeline import action_item_batch_fn
+    from jaxmotion.data.pipeline import action_item_batches, make_batch_fn
 
     items = sample.action_items(CONTEXT_FRAMES)
-    batch = action_item_batch_fn(items, jax.random.key(0), batch_size=4)(0)
+    batch = make_batch_fn(items.data, jax.random.key(0), *action_item_batches(items, batch_size=4))(0)
     longest = int(items.data.lengths.max())
     assert batch["joints"].shape == (4, longest, 24, 3) and batch["tags"].shape == (4, 31)
     for row in range(4):

@@ -381,21 +381,20 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
     return batch
 
 
-def action_item_batch_fn(items: ActionItems, key: jax.Array, batch_size: int, *,
-                         sampling: Sampling = "epoch") -> Callable[[int], dict[str, jax.Array]]:
-    """``step -> batch`` of whole action items (:meth:`MotionDataset.action_items`), as Neural Marionette trains on
-    them: ``joints``, ``translation``, ``rotations`` ``[B, K + T, ...]`` (the K context frames, then the action,
-    padded after its end with its last frame to the longest item's length), ``mask [B, K + T]``, ``lengths [B]``
-    (K + the action's frames), ``tags``, ``next_tags`` ``[B, C]`` bool, ``durations [B]`` (the action's frames),
-    and the other labels of :func:`make_batch_fn`. Items stay where they are in their take (the floor at y = 0):
-    Marionette normalises at the last context frame itself
+def action_item_batches(items: ActionItems, batch_size: int, *, sampling: Sampling = "epoch"
+                        ) -> tuple[BatchSpec, dict[str, np.ndarray]]:
+    """What makes :func:`make_batch_fn` batch whole action items (:meth:`MotionDataset.action_items`), as Neural
+    Marionette trains on them: ``make_batch_fn(items.data, key, *action_item_batches(items, batch_size))`` gives
+    ``joints``, ``translation``, ``rotations`` ``[B, K + T, ...]`` (the K context frames, then the action, padded
+    after its end with its last frame to the longest item's length), ``mask [B, K + T]``, ``lengths [B]`` (K + the
+    action's frames), ``tags``, ``next_tags`` ``[B, C]`` bool and ``durations [B]`` (the action's frames). Items stay
+    where they are in their take (the floor at y = 0): Marionette normalises at the last context frame itself
     (:func:`~jaxmotion.geometry.kinematics.heading_transform`)."""
     if len(items) == 0:
         raise ValueError(f"items: {items.data.name}/{items.data.split} has no action items to batch")
     spec = BatchSpec(batch_size=batch_size, window=int(items.data.lengths.max()), sampling=sampling,
                      canonical=False, in_place=True)
-    return make_batch_fn(items.data, key, spec, labels={"tags": items.tags, "next_tags": items.next_tags,
-                                                        "durations": items.durations.astype(np.int32)})
+    return spec, {"tags": items.tags, "next_tags": items.next_tags, "durations": items.durations.astype(np.int32)}
 
 
 def gather_windows(dataset: MotionDataset, ids: np.ndarray, key: jax.Array, spec: BatchSpec,

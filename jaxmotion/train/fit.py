@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import jax
+import numpy as np
 
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import BatchSpec, PairSpec, make_batch_fn
@@ -29,13 +30,14 @@ from jaxmotion.train.loop import LoopConfig, StepFn, train
 
 def fit(data: MotionDataset, key: jax.Array, *, init_state: Callable[[jax.Array], Any], step_fn: StepFn,
         batch: BatchSpec | PairSpec, loop: LoopConfig, workdir: str | Path | None = None, progress: bool = True,
-        **loop_options: Any) -> Any:
+        labels: dict[str, np.ndarray] | None = None, **loop_options: Any) -> Any:
     """Train ``init_state(k_init)`` with ``step_fn`` on batches of ``data``; return the final state.
 
     ``key`` splits into ``k_init, k_data, k_train``: the initial state, the batches' order and crops, and
-    the per-step keys (``fold_in(k_train, step)``). ``loop_options`` go to :func:`~jaxmotion.train.loop.train`
+    the per-step keys (``fold_in(k_train, step)``). ``labels``: per-sequence arrays the batches carry too
+    (:func:`~jaxmotion.data.pipeline.make_batch_fn`). ``loop_options`` go to :func:`~jaxmotion.train.loop.train`
     as they are (``mesh``, ``init_from``, ``eval_fn``).
     """
     k_init, k_data, k_train = jax.random.split(key, 3)
-    return train(init_state(k_init), step_fn, make_batch_fn(data, k_data, batch), key=k_train, config=loop,
+    return train(init_state(k_init), step_fn, make_batch_fn(data, k_data, batch, labels), key=k_train, config=loop,
                  workdir=workdir, progress=progress, **loop_options)
