@@ -1,4 +1,4 @@
-"""ΔTraj (Neural Marionette) and dist_e / end-point hit rate (ODMO): properties, hand cases, numpy reference.
+"""ΔTraj and ΔJPE (Neural Marionette) and dist_e / end-point hit rate (ODMO): properties, hand cases, numpy reference.
 
 Every kernel runs eagerly and under ``jax.jit`` (the ``compile`` fixture); the tests share one motion
 shape [N, T, J] = [9, 6, 3] so that each function compiles about once.
@@ -15,6 +15,8 @@ from jaxmotion.metrics.trajectory import (
     end_point_error,
     end_point_hit_rate,
     end_point_squared_error,
+    joint_position_error,
+    joint_position_error_per_sample,
     trajectory_error,
     trajectory_error_per_sample,
 )
@@ -206,3 +208,19 @@ def test_an_empty_class_or_a_bad_label_makes_the_class_mean_nan(compile):
 def test_bad_inputs_raise_value_error_naming_the_argument(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_joint_position_error_is_the_mean_joint_distance_over_each_actions_frames(compile):
+    generated, truth = motions(11), motions(12)
+    expected = np.array([np.linalg.norm(generated[i, :n] - truth[i, :n], axis=-1).mean()
+                         for i, n in enumerate(LENGTHS)])
+    np.testing.assert_allclose(compile(joint_position_error_per_sample)(generated, truth, LENGTHS), expected,
+                               rtol=RTOL)
+    np.testing.assert_allclose(compile(joint_position_error)(generated, truth, LENGTHS), expected.mean(), rtol=RTOL)
+    shifted = truth + np.array([0.0, 0.1, 0.0], np.float32)  # every joint 10 cm up
+    np.testing.assert_allclose(compile(joint_position_error)(shifted, truth), 0.1, rtol=RTOL)
+    padded = generated.copy()
+    padded[1, 3:] = np.nan  # past action 1's length: never read
+    assert np.isfinite(compile(joint_position_error_per_sample)(padded, truth, LENGTHS)).all()
+    bad = compile(joint_position_error_per_sample)(generated, truth, LENGTHS * 0)
+    assert np.isnan(bad).all()

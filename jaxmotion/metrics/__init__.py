@@ -8,7 +8,7 @@
 | :mod:`~jaxmotion.metrics.apd` | APD, n-APD, mode-homogeneity | ODMO |
 | :mod:`~jaxmotion.metrics.clustering` | adjusted Rand index of discovered against true modes | (ODMO, added) |
 | :mod:`~jaxmotion.metrics.transitions` | Δpose, Δvel, action- and motion-level qualification ratios | Marionette |
-| :mod:`~jaxmotion.metrics.trajectory` | ΔTraj, end-point error dist_e and hit rate | Marionette, ODMO |
+| :mod:`~jaxmotion.metrics.trajectory` | ΔTraj, ΔJPE, end-point error dist_e and hit rate | Marionette, ODMO |
 | :mod:`~jaxmotion.metrics.smoothness` | jitter (mean joint acceleration) | ACTOR (denoising) |
 
 Mean ± 95% interval over repetitions: :func:`jaxmotion.evaluation.summarize`.
@@ -35,6 +35,8 @@ from jaxmotion.metrics.trajectory import (
     end_point_error,
     end_point_hit_rate,
     end_point_squared_error,
+    joint_position_error,
+    joint_position_error_per_sample,
     trajectory_error,
     trajectory_error_per_sample,
 )
@@ -49,7 +51,8 @@ from jaxmotion.metrics.transitions import (
 __all__ = [
     "accuracy", "action_qr", "adjusted_rand_index", "aggregate_persons", "apd", "apd_per_class", "confusion_matrix", "diversity",
     "end_point_error", "end_point_hit_rate", "end_point_squared_error", "fid", "fid_class_mean",
-    "fid_per_class", "frechet_distance", "gaussian_stats", "mean_acceleration", "mean_class_recall",
+    "fid_per_class", "frechet_distance", "gaussian_stats", "joint_position_error", "joint_position_error_per_sample",
+    "mean_acceleration", "mean_class_recall",
     "mean_transition_gaps",
     "mode_homogeneity", "motion_qr", "multimodality", "n_apd", "qualification_ratio_curves",
     "trajectory_error", "trajectory_error_per_sample", "transition_gaps",

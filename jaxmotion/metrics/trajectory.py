@@ -1,4 +1,4 @@
-"""Trajectory-control metrics: Neural Marionette's ΔTraj and ODMO's end-point error dist_e.
+"""Control metrics: Neural Marionette's ΔTraj and ΔJPE, and ODMO's end-point error dist_e.
 
 * **ΔTraj** (Neural Marionette, P-NM Sec. 5.1.2): "the L2 distance between the input trajectory and the
   generated root position per frame of root translation". The input trajectory is a ground-plane curve
@@ -6,6 +6,11 @@
   specified frame"), so the root is compared on the ground plane only: axes (x, z) of the library frame
   (+Y up). Per action, the mean over its frames of ``‖root_xz(t) − U(t)‖``; ΔTraj is the mean over
   actions.
+* **ΔJPE** (Neural Marionette's Table 2, which names the column and never defines it). Defined here: the mean
+  over an action's frames and joints of ``‖Ĵ_j(t) − J_j(t)‖``, Ĵ the action generated under the ground truth's own
+  conditions (its context, tags, next tags, duration and path) with Z = µ and J the ground truth, both in the same
+  frame; then the mean over actions. It measures how closely the model reproduces a real action from its
+  conditions, as the paper's ablation reads it.
 * **dist_e** (ODMO, P-OD Sec. 4.4): "the mean squared error between target end location r_e and the end
   location in the generated motion". As in ODMO's ``trajectory_customization.py``: per sample the squared
   Euclidean distance (summed over x, y, z, not averaged) between the target and the root (joint 0) at the
@@ -21,7 +26,7 @@ Choices where the sources are silent:
   generates each action in a frame normalised on its initial pose, Suppl. Algorithm 1). Which actions to
   include (the paper's trajectories are for root-motion actions) is left to the caller. A length outside
   ``[1, T]`` gives NaN for that action.
-* Units: ΔTraj in the input unit (metres; the paper does not state its unit), dist_e in the input unit
+* Units: ΔTraj and ΔJPE in the input unit (metres; the paper does not state its unit), dist_e in the input unit
   squared, the hit rate a fraction in [0, 1].
 * Class means are plain means, as in ODMO (``np.mean`` over classes): a class without samples is NaN and
   so is the aggregate; a label outside ``[0, num_classes)`` makes the output NaN (a jittable function
@@ -94,6 +99,34 @@ def trajectory_error_per_sample(
 def trajectory_error(motions: jax.Array, trajectories: jax.Array, lengths: jax.Array | None = None) -> jax.Array:
     """Neural Marionette's ΔTraj: :func:`trajectory_error_per_sample` averaged over actions -> scalar."""
     return trajectory_error_per_sample(motions, trajectories, lengths).mean()
+
+
+def _joint_error(generated: jax.Array, truth: jax.Array, length: jax.Array) -> jax.Array:
+    """``[T, J, 3]`` twice, ``[] -> []``: mean joint distance over the first ``length`` frames."""
+    num_frames = generated.shape[0]
+    distance = jnp.linalg.norm(generated - truth, axis=-1).mean(axis=-1)  # [T]
+    mean = jnp.where(jnp.arange(num_frames) < length, distance, 0.0).sum() / jnp.maximum(length, 1)
+    return jnp.where((length >= 1) & (length <= num_frames), mean, jnp.nan)
+
+
+@jax.jit
+def joint_position_error_per_sample(generated: jax.Array, truth: jax.Array, lengths: jax.Array | None = None
+                                    ) -> jax.Array:
+    """ΔJPE of each action, ``[N]``: ``generated`` and ``truth`` ``[N, T, J, 3]`` joint positions in one frame,
+    ``lengths [N]`` frames of each (the rest padding, never read; None = all T). NaN for a length outside
+    ``[1, T]``."""
+    generated = _check_motions(generated)
+    truth = jnp.asarray(truth)
+    truth = _check_float("truth", truth, f"the shape of generated {tuple(generated.shape)}", truth.shape == generated.shape)
+    num_samples, num_frames = generated.shape[:2]
+    lengths = jnp.full(num_samples, num_frames) if lengths is None else _check_ints("lengths", lengths, num_samples)
+    return jax.vmap(_joint_error)(generated, truth, lengths)
+
+
+@jax.jit
+def joint_position_error(generated: jax.Array, truth: jax.Array, lengths: jax.Array | None = None) -> jax.Array:
+    """ΔJPE: :func:`joint_position_error_per_sample` averaged over actions -> scalar."""
+    return joint_position_error_per_sample(generated, truth, lengths).mean()
 
 
 def _class_mean(values: jax.Array, labels: jax.Array, num_classes: int) -> jax.Array:
