@@ -32,6 +32,8 @@ from jaxmotion.models.recognition import (
 
 SMALL_GRU = RecognizerConfig(hidden=16, layers=2, feature_dim=8)
 SMALL_STGCN = RecognizerConfig(architecture="stgcn", inputs="rot6d", channels=(8, 16), strides=(1, 2))
+SMALL_TRANSFORMER = RecognizerConfig(architecture="transformer", inputs="rot6d+translation", hidden=16, layers=1,
+                                     heads=2, feature_dim=8, dropout=0.1)
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +66,8 @@ def _turn_and_move(motions, angle, shift):
             "rotations": rotations}
 
 
-@pytest.mark.parametrize("config", [SMALL_GRU, SMALL_STGCN], ids=["gru-joints", "stgcn-rot6d"])
+@pytest.mark.parametrize("config", [SMALL_GRU, SMALL_STGCN, SMALL_TRANSFORMER],
+                         ids=["gru-joints", "stgcn-rot6d", "transformer-rot6d+translation"])
 def test_recognizer_output_does_not_depend_on_placement_or_heading(windows, config):
     recognizer = _untrained(config)
     logits, features = recognizer(windows)
@@ -72,6 +75,29 @@ def test_recognizer_output_does_not_depend_on_placement_or_heading(windows, conf
     assert features.shape == (12, config.features) and logits.shape == (12, 12)
     np.testing.assert_allclose(np.asarray(moved_features), np.asarray(features), atol=2e-4)
     np.testing.assert_allclose(np.asarray(moved_logits), np.asarray(logits), atol=2e-4)
+
+
+def test_the_transformer_recogniser_reads_only_the_real_frames_and_trains_with_dropout(windows):
+    from jaxmotion.models.recognition import apply_recognizer
+
+    recognizer = _untrained(SMALL_TRANSFORMER)
+    x = recognizer_inputs(SMALL_TRANSFORMER, SMPL24, windows)  # [B, T, J + 1, 6]
+    lengths = np.full(12, 20)
+
+    def logits(inputs, key=None):
+        return apply_recognizer(SMALL_TRANSFORMER, SMPL24, 12, {"params": recognizer.variables["params"]}, inputs,
+                                lengths, train=key is not None, key=key)[0][0]
+
+    garbage = x.at[:, 20:].set(7.0)  # past every length: never read
+    np.testing.assert_allclose(np.asarray(logits(garbage)), np.asarray(logits(x)), atol=1e-5)
+
+    def loss(params, key):
+        out = apply_recognizer(SMALL_TRANSFORMER, SMPL24, 12, {"params": params}, x, train=True, key=key)
+        return out[0][0].sum()
+
+    grads = jax.grad(loss)(recognizer.variables["params"], jax.random.key(1))
+    assert all(np.isfinite(np.asarray(g)).all() for g in jax.tree.leaves(grads))
+    assert float(logits(x, jax.random.key(1)).sum()) != float(logits(x, jax.random.key(2)).sum())  # dropout
 
 
 def test_rot6d_recognizer_refuses_joint_only_motions(windows):

@@ -256,7 +256,7 @@ def cache_folder(spec: RecognizerTraining, cache_dir: str | Path | None = None, 
 # Fields added after evaluators were first cached, with their defaults: at those values they stay out of the
 # cache key, so the evaluators trained before they existed are found again.
 _LATER_FIELDS = {("trains_on",): "train", ("permute_persons",): False, ("optimizer",): "adam", ("decay_steps",): [],
-                 ("recognizer", "persons"): "average", ("recognizer", "topology"): "own"}
+                 ("recognizer", "persons"): "average", ("recognizer", "topology"): "own", ("recognizer", "heads"): 4}
 
 
 def _cache_spec(spec: RecognizerTraining) -> dict[str, Any]:

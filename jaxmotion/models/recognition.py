@@ -17,6 +17,12 @@ ODMO's 3 × 256 for UESTC) and ACTOR's ST-GCN (:mod:`jaxmotion.nn.stgcn`) on rot
 the canonical frame (root of frame 0 at the origin, facing +Z): where a generator places or turns a
 subject says nothing about the action, and removing it lets a small network reach high accuracy on a CPU
 budget. Training and caching live in :mod:`jaxmotion.evaluation.recognizers`.
+
+**A Transformer recogniser** (``architecture="transformer"``; Neural Marionette's evaluator is "a Transformer"
+and nothing more): each frame's numbers (every person's, side by side) through a linear embedding plus a
+sinusoidal position, a post-norm encoder (``layers``, ``heads``, width ``hidden``, FF 4 x ``hidden``, GELU,
+``dropout``), the outputs averaged over the real frames (``lengths``), then ``tanh`` of a linear map to the
+``feature_dim`` features and a linear map to the logits: the GRU classifier's head on a Transformer's pooling.
 """
 
 from __future__ import annotations
@@ -36,9 +42,11 @@ from jaxmotion.data.pipeline import canonicalize_motion, map_in_chunks
 from jaxmotion.geometry.representations import actformer_features
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, from_matrix
 from jaxmotion.geometry.skeletons import JOINTS15, Skeleton, joints15_indices
-from jaxmotion.nn.core import LinearParams, init_linear, linear
+from jaxmotion.nn.core import LinearParams, dropout, init_linear, linear
 from jaxmotion.nn.recurrent import GRUParams, gru_stack, init_gru
 from jaxmotion.nn.stgcn import init_stgcn, spatial_partition, stgcn
+from jaxmotion.nn.transformer import (EncoderLayerParams, TransformerOptions, encoder_stack, init_encoder_stack,
+                                      sinusoidal_encoding)
 
 
 class A2MRecognizerParams(NamedTuple):
@@ -136,7 +144,7 @@ class RecognizerConfig:
     GTA Combat). The graph and the representation are then the 15 joints'; joint positions only.
     """
 
-    architecture: Literal["gru", "stgcn"] = "gru"
+    architecture: Literal["gru", "stgcn", "transformer"] = "gru"
     inputs: Literal["joints", "rot6d", "limbs", "rot6d+translation"] = "joints"
     canonical: bool = True
     graph_center: int = 0
@@ -149,8 +157,14 @@ class RecognizerConfig:
     dropout: float = 0.0
     persons: Literal["average", "channels"] = "average"
     topology: Literal["own", "joints15"] = "own"
+    heads: int = 4
 
     def __post_init__(self):
+        if self.architecture not in ("gru", "stgcn", "transformer"):
+            raise ValueError(f"RecognizerConfig.architecture: expected 'gru', 'stgcn' or 'transformer', got "
+                             f"{self.architecture!r}")
+        if self.architecture == "transformer" and self.hidden % self.heads:
+            raise ValueError(f"RecognizerConfig.heads: must divide hidden ({self.hidden}), got {self.heads}")
         if self.topology not in ("own", "joints15"):
             raise ValueError(f"RecognizerConfig.topology: expected 'own' or 'joints15', got {self.topology!r}")
         if self.topology == "joints15" and self.inputs not in ("joints", "limbs"):
@@ -161,7 +175,7 @@ class RecognizerConfig:
         if len(self.channels) != len(self.strides) or not self.channels:
             raise ValueError(f"RecognizerConfig: channels ({len(self.channels)}) and strides "
                              f"({len(self.strides)}) need one entry per ST-GCN block")
-        check_at_least(self, 1, "hidden", "layers", "feature_dim", "temporal_kernel")
+        check_at_least(self, 1, "hidden", "layers", "feature_dim", "temporal_kernel", "heads")
         check_at_least(self, 0, "graph_center")
 
     @classmethod
@@ -190,9 +204,16 @@ class RecognizerConfig:
     def channels_in(self) -> int:
         return 6 if self.inputs.startswith("rot6d") else 3
 
+    @classmethod
+    def transformer(cls, inputs: str = "rot6d+translation") -> RecognizerConfig:
+        """The Transformer recogniser (module docstring): 2 layers of width 128, 4 heads, 64-d features, dropout
+        0.1, on rot6d with the translation, in the canonical frame."""
+        return cls(architecture="transformer", inputs=inputs, hidden=128, layers=2, heads=4, feature_dim=64,
+                   dropout=0.1)
+
     @property
     def features(self) -> int:
-        return self.feature_dim if self.architecture == "gru" else self.channels[-1]
+        return self.channels[-1] if self.architecture == "stgcn" else self.feature_dim
 
 
 def recognizer_inputs(config: RecognizerConfig, skeleton: Skeleton, motions: Mapping[str, jax.Array]) -> jax.Array:
@@ -254,6 +275,33 @@ def init_gru_recognizer(key: jax.Array, input_dim: int, num_classes: int, hidden
                                init_linear(k_2, feature_dim, num_classes))
 
 
+class TransformerRecognizerParams(NamedTuple):
+    embedding: LinearParams  # frame numbers -> hidden
+    layers: EncoderLayerParams
+    linear1: LinearParams  # hidden -> feature_dim (tanh): the features
+    linear2: LinearParams  # feature_dim -> classes: the logits
+
+
+def _transformer_options(config: RecognizerConfig) -> TransformerOptions:
+    return TransformerOptions(num_heads=config.heads, dropout_rate=config.dropout)
+
+
+def transformer_recognize(config: RecognizerConfig, params: TransformerRecognizerParams, frames: jax.Array,
+                          lengths: jax.Array | None = None, key: jax.Array | None = None
+                          ) -> tuple[jax.Array, jax.Array]:
+    """``frames [B, T, F]`` -> ``(logits [B, C], features [B, feature_dim])``, averaging over the first
+    ``lengths [B]`` frames (default all); dropout with ``key``."""
+    batch, count = frames.shape[:2]
+    mask = jnp.ones((batch, count), bool) if lengths is None else jnp.arange(count)[None] < jnp.asarray(lengths)[:, None]
+    h = linear(params.embedding, frames) + sinusoidal_encoding(jnp.arange(count), config.hidden)
+    k_in, k_layers = (None, None) if key is None else tuple(jax.random.split(key))
+    h = encoder_stack(params.layers, dropout(h, config.dropout, k_in), _transformer_options(config),
+                      key_padding_mask=mask, dropout_key=k_layers)
+    pooled = jnp.sum(jnp.where(mask[..., None], h, 0.0), axis=1) / jnp.maximum(mask.sum(axis=1), 1)[:, None]
+    features = jnp.tanh(linear(params.linear1, pooled))
+    return linear(params.linear2, features), features
+
+
 def _stgcn_graph(config: RecognizerConfig, skeleton: Skeleton) -> np.ndarray:
     """The ST-GCN's spatial graph ``[3, J', J']``, centred on ``graph_center`` (ACTOR's evaluator: the root)."""
     return spatial_partition(recognizer_parents(config, skeleton), center=config.graph_center)
@@ -270,6 +318,13 @@ def init_recognizer(key: jax.Array, config: RecognizerConfig, skeleton: Skeleton
     if config.architecture == "gru":
         return {"params": init_gru_recognizer(key, persons * nodes * channels, num_classes, config.hidden,
                                               config.layers, config.feature_dim)}
+    if config.architecture == "transformer":
+        keys = jax.random.split(key, 4)
+        return {"params": TransformerRecognizerParams(
+            init_linear(keys[0], persons * nodes * channels, config.hidden),
+            init_encoder_stack(keys[1], config.layers, config.hidden, 4 * config.hidden),
+            init_linear(keys[2], config.hidden, config.feature_dim),
+            init_linear(keys[3], config.feature_dim, num_classes))}
     if config.persons == "channels":
         channels *= persons
     params, stats = init_stgcn(key, _stgcn_graph(config, skeleton), channels, num_classes, channels=config.channels,
@@ -288,11 +343,13 @@ def apply_recognizer(config: RecognizerConfig, skeleton: Skeleton, num_classes: 
     as the reference, whose padding repeats the last frame). ``train``: ST-GCN batch statistics from the
     batch (returned in ``updates``) and dropout from ``key``.
     """
-    if config.architecture == "gru":
+    if config.architecture in ("gru", "transformer"):
         if x.ndim == 5:  # [B, P, T, J, C] -> [B, T, P, J, C]: one frame of every person per step
             x = jnp.moveaxis(x, 1, 2)
-        outputs = a2m_recognize(variables["params"], x.reshape(*x.shape[:2], -1), lengths)
-        return outputs, {}
+        frames = x.reshape(*x.shape[:2], -1)
+        if config.architecture == "gru":
+            return a2m_recognize(variables["params"], frames, lengths), {}
+        return transformer_recognize(config, variables["params"], frames, lengths, key if train else None), {}
     if x.ndim == 5 and config.persons == "channels":  # [B, P, T, J, C] -> [B, T, J, P·C], person-major
         x = jnp.moveaxis(x, 1, -2).reshape(*x.shape[:1], *x.shape[2:4], -1)
     outputs, stats = stgcn(variables["params"], variables["batch_stats"], x, _stgcn_graph(config, skeleton),
