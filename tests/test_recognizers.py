@@ -132,11 +132,12 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
     # only the embedded-data ST-GCN is trained with input noise; the paper profile keeps the reference recipe
     noisy = profile != "paper"
     assert [s.input_noise > 0 for s in specs] == ([False, False, False, noisy] + [False] * 7
-                                                  + [noisy, False, noisy, False])
+                                                  + [noisy, False, noisy, False, False])
     if profile == "cpu":  # the 94 and 120 classes of NTU-1P and BABEL-120 get twice the steps
-        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000, 3000]
+        assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000, 3000,
+                                                     3000]
     # ActFormer's: its representations, trained on the other split; the pair stacked on channels, permuted
-    actformer = specs[9:]
+    actformer = specs[9:15]
     assert [s.recognizer.inputs for s in actformer] == ["limbs", "limbs", "rot6d+translation", "limbs",
                                                         "rot6d+translation", "limbs"]
     assert [s.recognizer.graph_center for s in actformer] == [9, 20, 0, 20, 0, 0]
@@ -147,6 +148,10 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
         [("average", False, 64)] * 3 + [("channels", True, 60)] + [("average", False, 64)] * 2)
     if profile == "paper":
         assert all(s.optimizer == "sgd" and s.learning_rate == 0.1 for s in actformer)
+    # Neural Marionette's: a Transformer on synth-mag's actions, trained on its train split
+    marionette = specs[15]
+    assert (marionette.dataset, marionette.recognizer.architecture, marionette.trains_on) == (
+        "synth-mag", "transformer", "train")
 
 
 def test_negative_input_noise_is_refused():
@@ -410,3 +415,13 @@ def test_a_joints15_recogniser_reads_ntu_and_gta_motions_through_their_common_jo
         ntu.reading(SMPL24)
     with pytest.raises(ValueError, match="RecognizerConfig.inputs: the joints15 topology keeps joint positions"):
         RecognizerConfig(architecture="stgcn", inputs="rot6d", topology="joints15")
+
+
+@pytest.mark.smoke
+def test_the_synth_mag_evaluator_reads_actions_labelled_with_their_first_tag(tmp_path):
+    spec = evaluator_spec("synth-mag/transformer", "smoke")
+    recognizer, record = trained_recognizer(spec, cache_dir=tmp_path, progress=False)
+    assert recognizer.class_names == recognizers.training_data(spec).class_names and recognizer.num_classes == 31
+    held_out = recognizers.held_out_data(spec)
+    assert held_out.segments is None and len(held_out) > 24  # the takes' actions, not the takes
+    assert record["held_out"]["clips"] == spec.test_count and 0 < record["held_out"]["accuracy"] <= 1

@@ -132,8 +132,15 @@ def held_out_data(spec: RecognizerTraining, data_root: str | None = None) -> Mot
     return _other_split(spec, data_root)
 
 
+def _actions(data: MotionDataset) -> MotionDataset:
+    """A multi-action dataset (takes with segments: synth-mag, mag) as its actions, each labelled with its first
+    tag (an intention, else the body state: body parts ride on states and are not classes of their own); any
+    other dataset as it is."""
+    return data if data.segments is None else data.action_items(context=0).data
+
+
 def _train_split(spec: RecognizerTraining, data_root: str | None) -> MotionDataset:
-    return load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count)
+    return _actions(load_dataset(spec.dataset, "train", seed=spec.data_seed, data_root=data_root, count=spec.count))
 
 
 def embedded_held_out_split(dataset: str) -> str | None:
@@ -147,9 +154,9 @@ def _other_split(spec: RecognizerTraining, data_root: str | None) -> MotionDatas
     if spec.dataset in synthetic.VARIANTS:
         split = embedded_held_out_split(spec.dataset)
         if split is not None:
-            return load_dataset(spec.dataset, split, seed=spec.data_seed, count=spec.count)
-        return load_dataset(spec.dataset, "train", seed=spec.test_data_seed, count=spec.count)
-    return load_dataset(spec.dataset, "test", data_root=data_root, count=spec.count)
+            return _actions(load_dataset(spec.dataset, split, seed=spec.data_seed, count=spec.count))
+        return _actions(load_dataset(spec.dataset, "train", seed=spec.test_data_seed, count=spec.count))
+    return _actions(load_dataset(spec.dataset, "test", data_root=data_root, count=spec.count))
 
 
 def _batch_spec(spec: RecognizerTraining, canonical: bool) -> BatchSpec:

@@ -1,6 +1,7 @@
 """The papers' evaluators on the embedded data, by name, in each profile (:func:`evaluator_spec`): Action2Motion's
 GRU on joints for synth-humanact12, synth-ntu13 and synth-cmu (and the ActFormer stand-ins), ACTOR's ST-GCN on rot6d
-for synth-uestc, ODMO's 3 × 256 GRU on joints for synth-uestc, and ActFormer's ST-GCNs on its representations.
+for synth-uestc, ODMO's 3 × 256 GRU on joints for synth-uestc, ActFormer's ST-GCNs on its representations, and a
+Transformer on synth-mag's actions (Neural Marionette's).
 :func:`jaxmotion.evaluation.recognizers.trained_recognizer` trains one once and caches it."""
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from jaxmotion.train.loop import LoopConfig
 EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru",
               "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru",
               "synth-ntu13/stgcn", "synth-ntu1p/stgcn", "synth-ntu1p-smpl/stgcn", "synth-ntu2p/stgcn",
-              "synth-babel120/stgcn", "synth-ntu1p/stgcn-joints15")
+              "synth-babel120/stgcn", "synth-ntu1p/stgcn-joints15", "synth-mag/transformer")
 
 #: ActFormer's evaluators (FACTS 5): ST-GCN on its representation (inputs, graph centre), trained on the other
 #: split; ``synth-ntu1p/stgcn-joints15`` is NTU-1P's on the 15 joints NTU and GTA share (centred on the pelvis,
@@ -59,6 +60,8 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     architecture, _, topology = architecture.partition("-")
     if architecture == "stgcn" and dataset in ACTFORMER_EVALUATORS:
         return _actformer_spec(dataset, profile, topology or "own")
+    if architecture == "transformer":
+        return _marionette_spec(dataset, profile)
     odmo = dataset == "synth-uestc" and architecture == "gru"
     window = 100 if dataset == "synth-cmu" else 60
     if profile == "smoke":
@@ -112,3 +115,18 @@ def _actformer_spec(dataset: str, profile: str, topology: str = "own") -> Recogn
     return RecognizerTraining(dataset, full, _loop(80 * per_epoch), batch_size=64, learning_rate=0.1,
                               weight_decay=1e-4, optimizer="sgd", decay_steps=(10 * per_epoch, 50 * per_epoch),
                               **common)
+
+
+def _marionette_spec(dataset: str, profile: str) -> RecognizerTraining:
+    """Neural Marionette's evaluator ("a Transformer", nothing more said): :meth:`RecognizerConfig.transformer` on
+    the actions of the takes (each labelled with its first tag), 60-frame windows (actions run 1-4 s at 30 fps;
+    shorter ones are read to their end), Adam. ``count`` counts takes (3-8 actions each). Paper: the recipe is
+    unpublished; 20,000 steps of 32 at 1e-4 are about 100 epochs of BABEL-MAG's training actions."""
+    if profile == "smoke":
+        net = RecognizerConfig(architecture="transformer", inputs="rot6d+translation", hidden=16, layers=1, heads=2,
+                               feature_dim=8)
+        return RecognizerTraining(dataset, net, _SMOKE_LOOP, batch_size=16, window=60, count=24, test_count=60)
+    steps = 3000 if profile == "cpu" else 20_000
+    return RecognizerTraining(dataset, RecognizerConfig.transformer(), _loop(steps), batch_size=32, window=60,
+                              learning_rate=1e-3 if profile == "cpu" else 1e-4)
+
