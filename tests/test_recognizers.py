@@ -132,10 +132,10 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
     # only the embedded-data ST-GCN is trained with input noise; the paper profile keeps the reference recipe
     noisy = profile != "paper"
     assert [s.input_noise > 0 for s in specs] == ([False, False, False, noisy] + [False] * 7
-                                                  + [noisy, False, noisy, False, False])
+                                                  + [noisy, False, noisy, False, False, False])
     if profile == "cpu":  # the 94 and 120 classes of NTU-1P and BABEL-120 get twice the steps
         assert [s.loop.steps for s in specs[5:]] == [3000, 3000, 1500, 3000, 1500, 3000, 3000, 1500, 3000, 3000,
-                                                     3000]
+                                                     3000, 3000]
     # ActFormer's: its representations, trained on the other split; the pair stacked on channels, permuted
     actformer = specs[9:15]
     assert [s.recognizer.inputs for s in actformer] == ["limbs", "limbs", "rot6d+translation", "limbs",
@@ -149,9 +149,12 @@ def test_every_standard_evaluator_has_a_spec_in_every_profile(profile):
     if profile == "paper":
         assert all(s.optimizer == "sgd" and s.learning_rate == 0.1 for s in actformer)
     # Neural Marionette's: a Transformer on synth-mag's actions, trained on its train split
-    marionette = specs[15]
+    marionette, revision = specs[15:]
     assert (marionette.dataset, marionette.recognizer.architecture, marionette.trains_on) == (
         "synth-mag", "transformer", "train")
+    # Action Revision's classifier: the same recipe, trained apart (another seed, so another cache entry)
+    assert dataclasses.replace(revision, seed=marionette.seed) == marionette and revision.seed != marionette.seed
+    assert cache_folder(revision) != cache_folder(marionette)
 
 
 def test_negative_input_noise_is_refused():

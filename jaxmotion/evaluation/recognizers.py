@@ -110,9 +110,10 @@ class RecognizerTraining:
     @property
     def name(self) -> str:
         """The evaluator's name (:data:`jaxmotion.recipes.evaluators.EVALUATORS`):
-        ``<dataset>/<architecture>[-joints15]``."""
+        ``<dataset>/<architecture>[-joints15][-seed<n>]`` (a seed other than 0: the same recipe trained apart)."""
         topology = "" if self.recognizer.topology == "own" else f"-{self.recognizer.topology}"
-        return f"{self.dataset}/{self.recognizer.architecture}{topology}"
+        seed = "" if self.seed == 0 else f"-seed{self.seed}"
+        return f"{self.dataset}/{self.recognizer.architecture}{topology}{seed}"
 
 
 # --- data ------------------------------------------------------------------------------------------

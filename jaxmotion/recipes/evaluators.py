@@ -15,11 +15,14 @@ from jaxmotion.geometry.skeletons import JOINTS15
 from jaxmotion.models.recognition import RecognizerConfig
 from jaxmotion.train.loop import LoopConfig
 
-#: The papers' evaluators on the embedded data, by name.
+#: The papers' evaluators on the embedded data, by name. ``synth-mag/transformer-seed1`` is Action Revision's
+#: classifier: the evaluator's recipe trained apart (another initialisation and batch order), so Neural Marionette
+#: is not scored by the network it revises against.
 EVALUATORS = ("synth-humanact12/gru", "synth-ntu13/gru", "synth-cmu/gru", "synth-uestc/stgcn", "synth-uestc/gru",
               "synth-ntu1p/gru", "synth-ntu1p-smpl/gru", "synth-ntu2p/gru", "synth-babel120/gru",
               "synth-ntu13/stgcn", "synth-ntu1p/stgcn", "synth-ntu1p-smpl/stgcn", "synth-ntu2p/stgcn",
-              "synth-babel120/stgcn", "synth-ntu1p/stgcn-joints15", "synth-mag/transformer")
+              "synth-babel120/stgcn", "synth-ntu1p/stgcn-joints15", "synth-mag/transformer",
+              "synth-mag/transformer-seed1")
 
 #: ActFormer's evaluators (FACTS 5): ST-GCN on its representation (inputs, graph centre), trained on the other
 #: split; ``synth-ntu1p/stgcn-joints15`` is NTU-1P's on the 15 joints NTU and GTA share (centred on the pelvis,
@@ -57,6 +60,9 @@ def evaluator_spec(name: str, profile: str) -> RecognizerTraining:
     if profile not in cfglib.PROFILES:
         raise ValueError(f"profile: expected one of {', '.join(cfglib.PROFILES)}, got {profile!r}")
     dataset, architecture = name.split("/")
+    architecture, seeded, seed = architecture.partition("-seed")
+    if seeded:  # the same recipe trained apart (Action Revision's classifier beside the evaluator)
+        return dataclasses.replace(evaluator_spec(f"{dataset}/{architecture}", profile), seed=int(seed))
     architecture, _, topology = architecture.partition("-")
     if architecture == "stgcn" and dataset in ACTFORMER_EVALUATORS:
         return _actformer_spec(dataset, profile, topology or "own")
