@@ -15,12 +15,7 @@ TAGS = ("walk", "turn", "stand", "arms")
 
 def _segments(rows, num_classes=len(TAGS)):
     """``rows``: ``(sequence, start, end, tags, next_tags)`` with tags as index tuples."""
-    flags = np.zeros((len(rows), 2, num_classes), bool)
-    for r, (*_, tags, after) in enumerate(rows):
-        flags[r, 0, list(tags)] = True
-        flags[r, 1, list(after)] = True
-    col = (lambda k: np.array([row[k] for row in rows], np.int32))
-    return Segments(col(0), col(1), col(2), flags[:, 0], flags[:, 1], np.full(len(rows), -1, np.int32))
+    return Segments.from_rows([(*row, -1) for row in rows], num_classes)
 
 
 def _take(length, rows, seed):

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from jaxmotion.data.segments import Segments, concatenate_segments
+from jaxmotion.data.segments import CONTEXT_FRAMES, Segments, concatenate_segments
 from jaxmotion.files import atomic_file
 from jaxmotion.geometry.skeletons import CMU_MOCAP20, GTA22, NTU25, SMPL24, UESTC18, Skeleton
 
@@ -192,7 +192,7 @@ class MotionDataset:
             segments=None if self.segments is None else self.segments.select(indices),
         )
 
-    def action_items(self, context: int = 6) -> ActionItems:
+    def action_items(self, context: int = CONTEXT_FRAMES) -> ActionItems:
         """Each action of a multi-action dataset as its own sequence, its ``context`` preceding frames first
         (:class:`~jaxmotion.data.segments.ActionItems`); actions with fewer frames before them are left out and
         counted. A ``ValueError`` for a dataset without segments."""

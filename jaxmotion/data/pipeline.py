@@ -31,11 +31,7 @@ import numpy as np
 from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import ActionItems, MotionDataset
 from jaxmotion.distributed import DATA_AXIS, gather, shard_batch
-from jaxmotion.geometry.kinematics import canonicalize_transform, transform_root
-from jaxmotion.geometry.rotations import (
-    axis_angle_to_matrix,
-    matrix_to_axis_angle,
-)
+from jaxmotion.geometry.kinematics import canonicalize_transform, transform_motion
 
 Sampling = Literal["epoch", "uniform", "balanced", "sqrt"]
 Padding = Literal["last", "snake"]
@@ -171,8 +167,8 @@ def canonicalize_motion(joints: jax.Array, translation: jax.Array, rotations: ja
     new_joints = jnp.einsum("bij,btkj->btki", rot, joints, precision=_HIGHEST) + shift[:, None, None]
     if rotations is None:
         return new_joints, jnp.einsum("bij,btj->bti", rot, translation, precision=_HIGHEST) + shift[:, None], None
-    root_mats, new_translation = transform_root(rot, shift, axis_angle_to_matrix(rotations[..., 0, :]), translation)
-    return new_joints, new_translation, rotations.at[..., 0, :].set(matrix_to_axis_angle(root_mats))
+    new_rotations, new_translation = transform_motion(rot, shift, rotations, translation)
+    return new_joints, new_translation, new_rotations
 
 
 @_fold_persons

@@ -99,9 +99,10 @@ class Segments:
     def select(self, sequences: Sequence[int] | np.ndarray) -> Segments:
         """The rows of ``sequences``, in that order, renumbered 0, 1, ... as those sequences are in a subset."""
         sequences = np.asarray(sequences, np.int64)
-        rows = [np.flatnonzero(self.sequence == s) for s in sequences]
-        index = np.concatenate(rows) if rows else np.zeros(0, np.int64)
-        renumbered = np.repeat(np.arange(len(sequences), dtype=np.int32), [len(r) for r in rows])
+        first = np.searchsorted(self.sequence, sequences, "left")  # rows are ordered by sequence
+        counts = np.searchsorted(self.sequence, sequences, "right") - first
+        index = np.repeat(first, counts) + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        renumbered = np.repeat(np.arange(len(sequences), dtype=np.int32), counts)
         return dataclasses.replace(self, sequence=renumbered, start=self.start[index], end=self.end[index],
                                    tags=self.tags[index], next_tags=self.next_tags[index], modes=self.modes[index])
 
@@ -115,6 +116,17 @@ class Segments:
         if "segments_start" not in arrays:
             return None
         return cls(**{f.name: arrays[f"segments_{f.name}"] for f in dataclasses.fields(cls)})
+
+    @classmethod
+    def from_rows(cls, rows: Sequence[tuple[int, int, int, Sequence[int], Sequence[int], int]],
+                  num_classes: int) -> Segments:
+        """A table from ``(sequence, start, end, tag ids, next tag ids, mode)`` rows."""
+        flags = np.zeros((len(rows), 2, num_classes), bool)
+        for r, (*_, tags, after, _) in enumerate(rows):
+            flags[r, 0, list(tags)] = True
+            flags[r, 1, list(after)] = True
+        column = (lambda k: np.array([row[k] for row in rows], np.int32).reshape(len(rows)))
+        return cls(column(0), column(1), column(2), flags[:, 0], flags[:, 1], column(5))
 
     @classmethod
     def empty(cls, num_classes: int) -> Segments:

@@ -19,6 +19,7 @@ from jaxmotion.geometry.kinematics import (
     library_to_humanact12_frame,
     root_relative,
     root_trajectory,
+    transform_motion,
     transform_root,
 )
 from jaxmotion.geometry.rotations import (
@@ -53,7 +54,7 @@ __all__ = [
     "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model",
     "apply_transform", "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",
     "forward_kinematics_transforms", "heading_transform", "humanact12_to_library_frame", "inverse_transform",
-    "library_to_humanact12_frame", "root_relative", "root_trajectory", "transform_root",
+    "library_to_humanact12_frame", "root_relative", "root_trajectory", "transform_motion", "transform_root",
     "EULER_ORDERS", "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "euler_to_matrix",
     "from_matrix", "matrix_to_axis_angle", "matrix_to_euler", "matrix_to_quaternion", "matrix_to_rot6d",
     "quaternion_to_axis_angle", "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",

@@ -19,7 +19,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxmotion.geometry.rotations import check_rotations
+from jaxmotion.geometry.rotations import axis_angle_to_matrix, check_rotations, matrix_to_axis_angle
 from jaxmotion.geometry.skeletons import bones, topological_order
 
 # 3x3 products are far from compute-bound, and the default precision on GPU/TPU (TF32/bf16) would put
@@ -254,6 +254,14 @@ def transform_root(
     per_frame = rotation[..., None, :, :]  # the same R for every frame
     new_translation = _matmul(per_frame, root_translation[..., None])[..., 0] + translation[..., None, :]
     return _matmul(per_frame, root_rotmats), new_translation
+
+
+def transform_motion(rotation: jax.Array, translation: jax.Array, rotations: jax.Array, root_translation: jax.Array
+                     ) -> tuple[jax.Array, jax.Array]:
+    """:func:`transform_root` for a motion stored as axis-angle: ``rotations [..., T, J, 3]`` (joint 0 global) and
+    ``root_translation [..., T, 3]`` moved by ``x -> R x + t`` -> the same two, only joint 0's rotation changed."""
+    root, moved = transform_root(rotation, translation, axis_angle_to_matrix(rotations[..., 0, :]), root_translation)
+    return rotations.at[..., 0, :].set(matrix_to_axis_angle(root, check=False)), moved
 
 
 def heading_transform(root_rotmat: jax.Array, root_translation: jax.Array) -> tuple[jax.Array, jax.Array]:

@@ -93,14 +93,19 @@ def pose135(rotations: jax.Array, translation: jax.Array) -> jax.Array:
     return jnp.concatenate([body.reshape(*body.shape[:-2], POSE135_JOINTS * 6), translation], axis=-1)
 
 
-def from_pose135(pose: jax.Array) -> tuple[jax.Array, jax.Array]:
-    """Inverse of :func:`pose135`: ``[..., T, 135]`` (any 6D, e.g. a network's, orthonormalised) ->
-    ``(rotations [..., T, 24, 3]`` with identity hands, ``translation [..., T, 3])``."""
+def pose135_rotmats(pose: jax.Array) -> jax.Array:
+    """``[..., T, 135]`` (any 6D, e.g. a network's, orthonormalised) -> SMPL-24 local rotation matrices
+    ``[..., T, 24, 3, 3]``, the hands at rest (identity)."""
     _check("pose", pose, (POSE135_SIZE,), 2, f"[..., T, {POSE135_SIZE}]")
-    body = pose[..., :POSE135_JOINTS * 6].reshape(*pose.shape[:-1], POSE135_JOINTS, 6)
-    axis_angle = matrix_to_axis_angle(to_matrix(body, "rot6d"), check=False)
-    hands = jnp.zeros((*pose.shape[:-1], 24 - POSE135_JOINTS, 3), axis_angle.dtype)
-    return jnp.concatenate([axis_angle, hands], axis=-2), pose[..., POSE135_JOINTS * 6:]
+    body = to_matrix(pose[..., :POSE135_JOINTS * 6].reshape(*pose.shape[:-1], POSE135_JOINTS, 6), "rot6d")
+    hands = jnp.broadcast_to(jnp.eye(3, dtype=body.dtype), (*pose.shape[:-1], 24 - POSE135_JOINTS, 3, 3))
+    return jnp.concatenate([body, hands], axis=-3)
+
+
+def from_pose135(pose: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """Inverse of :func:`pose135`: ``[..., T, 135]`` -> ``(rotations [..., T, 24, 3]`` axis-angle with the hands at
+    rest (:func:`pose135_rotmats`), ``translation [..., T, 3])``."""
+    return matrix_to_axis_angle(pose135_rotmats(pose), check=False), pose[..., POSE135_JOINTS * 6:]
 
 
 def limb_vectors(joints: jax.Array, parents: tuple[int, ...]) -> jax.Array:

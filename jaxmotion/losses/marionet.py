@@ -25,8 +25,7 @@ import jax
 import jax.numpy as jnp
 
 from jaxmotion.geometry.kinematics import forward_kinematics
-from jaxmotion.geometry.representations import POSE135_JOINTS
-from jaxmotion.geometry.rotations import to_matrix
+from jaxmotion.geometry.representations import POSE135_JOINTS, pose135_rotmats
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.losses.core import kl_to_standard_normal, masked_mse, masked_velocity_mse
 
@@ -43,13 +42,9 @@ class MarionetLossWeights:
 
 
 def local_joints(poses: jax.Array, skeleton: Skeleton) -> jax.Array:
-    """``poses [B, T, 135]`` -> joint positions ``[B, T, J, 3]`` about the root (forward kinematics of the 6D
-    rotations, any not orthonormal made so; joints past the pose's 22 at rest)."""
-    batch, frames = poses.shape[:2]
-    body = to_matrix(poses[..., :POSE135_JOINTS * 6].reshape(batch, frames, POSE135_JOINTS, 6), "rot6d")
-    rest = jnp.broadcast_to(jnp.eye(3, dtype=poses.dtype), (batch, frames, skeleton.num_joints - POSE135_JOINTS, 3, 3))
-    rotmats = jnp.concatenate([body, rest], axis=2)
-    return forward_kinematics(rotmats, jnp.zeros((batch, frames, 3), poses.dtype), skeleton.offsets,
+    """``poses [B, T, 135]`` -> joint positions ``[B, T, 24, 3]`` about the root on ``skeleton`` (an SMPL-24 one):
+    forward kinematics of :func:`~jaxmotion.geometry.representations.pose135_rotmats`."""
+    return forward_kinematics(pose135_rotmats(poses), jnp.zeros((*poses.shape[:2], 3), poses.dtype), skeleton.offsets,
                               skeleton.parents, check=False)
 
 

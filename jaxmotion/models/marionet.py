@@ -34,7 +34,10 @@ import jax
 import jax.numpy as jnp
 
 from jaxmotion.config import check_at_least
-from jaxmotion.geometry.representations import POSE135_SIZE
+from jaxmotion.data.segments import CONTEXT_FRAMES
+from jaxmotion.geometry.kinematics import heading_transform, transform_motion
+from jaxmotion.geometry.representations import POSE135_SIZE, pose135
+from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.nn.core import LinearParams, dropout, init_linear, linear, split_key
 from jaxmotion.nn.transformer import (
     DecoderLayerParams,
@@ -50,7 +53,7 @@ from jaxmotion.nn.transformer import (
 )
 
 #: Context poses MARIONET reads (S§3).
-CONTEXT = 6
+CONTEXT = CONTEXT_FRAMES
 
 
 @dataclasses.dataclass(frozen=True)
@@ -120,6 +123,16 @@ class MarionetParams(NamedTuple):
     path: EncoderLayerParams | None  # path_layers layers, width path_width (None for 0)
     decoder: DecoderLayerParams
     pose_head: LinearParams  # d -> 135
+
+
+def normalised_poses(rotations: jax.Array, translation: jax.Array, frame: int
+                     ) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """A motion ``rotations [B, T, 24, 3]`` (axis-angle), ``translation [B, T, 3]`` in the normalised frame of its
+    pose at ``frame`` (the last context pose; Eqs. 3-5) -> ``(poses [B, T, 135], turn [B, 3, 3], shift [B, 3])``,
+    the rigid map ``x -> turn x + shift`` that took it there (:func:`~jaxmotion.geometry.kinematics.heading_transform`;
+    its :func:`~jaxmotion.geometry.kinematics.inverse_transform` takes generated actions back)."""
+    turn, shift = heading_transform(axis_angle_to_matrix(rotations[:, frame, 0]), translation[:, frame])
+    return pose135(*transform_motion(turn, shift, rotations, translation)), turn, shift
 
 
 def init_marionet(key: jax.Array, config: MarionetConfig) -> MarionetParams:

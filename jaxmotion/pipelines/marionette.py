@@ -19,32 +19,23 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxmotion.geometry.kinematics import (apply_transform, forward_kinematics, heading_transform,
-                                           inverse_transform, transform_root)
-from jaxmotion.geometry.representations import from_pose135, pose135
-from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
+from jaxmotion.geometry.kinematics import apply_transform, forward_kinematics, inverse_transform, transform_motion
+from jaxmotion.geometry.representations import from_pose135
+from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import SMPL24
-from jaxmotion.models.marionet import CONTEXT, MarionetConfig, MarionetParams, generate
-
-
-def _placed(rotations: jax.Array, translation: jax.Array, turn: jax.Array, shift: jax.Array
-            ) -> tuple[jax.Array, jax.Array]:
-    """A motion ``[B, T, 24, 3]``, ``[B, T, 3]`` moved by ``x -> turn x + shift`` (through its root)."""
-    roots, translation = transform_root(turn, shift, axis_angle_to_matrix(rotations[:, :, 0]), translation)
-    return rotations.at[:, :, 0].set(matrix_to_axis_angle(roots, check=False)), translation
+from jaxmotion.models.marionet import CONTEXT, MarionetConfig, MarionetParams, generate, normalised_poses
 
 
 @functools.partial(jax.jit, static_argnames="config")
 def _generate(params: MarionetParams, config: MarionetConfig, rotations: jax.Array, translation: jax.Array,
               tags: jax.Array, next_tags: jax.Array, paths: jax.Array, follow: jax.Array, mask: jax.Array,
               key: jax.Array | None) -> dict[str, jax.Array]:
-    turn, shift = heading_transform(axis_angle_to_matrix(rotations[:, -1, 0]), translation[:, -1])
-    context = pose135(*_placed(rotations, translation, turn, shift))
+    context, turn, shift = normalised_poses(rotations, translation, -1)
     ground = jnp.stack([paths[..., 0], jnp.zeros_like(paths[..., 0]), paths[..., 1]], axis=-1)  # [B, T, 3]
     local_paths = apply_transform(turn, shift, ground)[..., jnp.array([0, 2])]
     local_paths = jnp.where((mask & follow[:, None])[..., None], local_paths, 0.0)  # no path: zeros, as in training
     poses = generate(params, config, context, tags, next_tags, local_paths, mask, key)
-    out_rotations, out_translation = _placed(*from_pose135(poses), *inverse_transform(turn, shift))
+    out_rotations, out_translation = transform_motion(*inverse_transform(turn, shift), *from_pose135(poses))
     joints = forward_kinematics(axis_angle_to_matrix(out_rotations), out_translation, SMPL24.offsets, SMPL24.parents,
                                 check=False)
     keep = mask[..., None]

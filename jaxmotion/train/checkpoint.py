@@ -97,8 +97,12 @@ class Checkpointer:
                       f"{candidate} instead" + (f" and moved the damaged ones to {self._damaged}" if moved else ""),
                       file=sys.stderr)
             return state
-        if abstract is not None and not any(self._readable(step) for step in steps):
-            if self.read_only:  # another run's (init_from): not ours to move
+        # the first checkpoint that can be read as it was saved (no state to fit; without one, the loop just tried
+        # that): none means damage
+        readable = None if abstract is None else next(
+            ((s, raw) for s in steps if (raw := self._read_as_saved(s)) is not None), None)
+        if readable is None:
+            if self.read_only or abstract is None:  # another run's (init_from), or an inspection: nothing moves
                 raise ValueError(f"every checkpoint in {self.directory} is damaged (the latest, step {steps[0]}: "
                                  f"{_first_line(errors[0][1])})") from errors[0][1]
             if jax.process_index() == 0:  # every process starts over; the first moves the files
@@ -107,19 +111,18 @@ class Checkpointer:
                       f"{_first_line(errors[0][1])}); moved them to {self._damaged} and starting over from step 0",
                       file=sys.stderr)
             raise CheckpointsDamaged(f"every checkpoint in {self.directory} was damaged and set aside")
-        saved = self._manager.restore(steps[0], args=ocp.args.StandardRestore(None))
+        step, saved = readable
         raise ValueError(f"no checkpoint in {self.directory} could be restored into this state; the latest (step "
-                         f"{steps[0]}) differs: {_difference(saved, like) or _first_line(errors[0][1])}. They can be "
+                         f"{step}) differs: {_difference(saved, like) or _first_line(errors[0][1])}. They can be "
                          f"read, so they hold another state (another model, optimiser or config); delete "
                          f"{self.directory} to train this one from the start") from errors[0][1]
 
-    def _readable(self, step: int) -> bool:
-        """Whether the checkpoint of ``step`` can be read as it was saved (with no state to fit)."""
+    def _read_as_saved(self, step: int) -> Any:
+        """The checkpoint of ``step`` read as it was saved (with no state to fit), or None when it cannot be."""
         try:
-            self._manager.restore(step, args=ocp.args.StandardRestore(None))
+            return self._manager.restore(step, args=ocp.args.StandardRestore(None))
         except Exception:  # noqa: BLE001 (orbax and tensorstore raise many types for unreadable files)
-            return False
-        return True
+            return None
 
     def _restore(self, step: int, abstract: Any) -> Any:
         if step not in self._manager.all_steps():

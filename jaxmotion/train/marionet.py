@@ -30,13 +30,12 @@ from jaxmotion.config import check_at_least
 from jaxmotion.data.mag_tags import KINDS
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import action_item_batches
-from jaxmotion.geometry.kinematics import heading_transform, transform_root
-from jaxmotion.geometry.representations import pose135
-from jaxmotion.geometry.rotations import axis_angle_to_matrix, matrix_to_axis_angle
+from jaxmotion.geometry.representations import POSE135_SIZE
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.losses.core import masked_mse
 from jaxmotion.losses.marionet import MarionetLossWeights, marionet_loss
-from jaxmotion.models.marionet import CONTEXT, MarionetConfig, MarionetParams, decode, forward, init_marionet
+from jaxmotion.models.marionet import (CONTEXT, MarionetConfig, MarionetParams, decode, forward, init_marionet,
+                                       normalised_poses)
 from jaxmotion.train.fit import fit
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.state import TrainState
@@ -84,15 +83,11 @@ def root_tag_mask(class_names: tuple[str, ...]) -> np.ndarray:
 def marionet_inputs(batch: dict[str, jax.Array], root_tags: jax.Array) -> dict[str, jax.Array]:
     """A batch of action items -> MARIONET's inputs in the normalised frame of each last context pose: ``context
     [B, K, 135]``, ``target [B, T, 135]``, ``mask [B, T]``, ``path [B, T, 2]``, ``tags``, ``next_tags [B, C]``."""
-    rotations, translation = batch["rotations"], batch["translation"]  # [B, K + T, 24, 3], [B, K + T, 3]
-    roots = axis_angle_to_matrix(rotations[:, :, 0])
-    turn, shift = heading_transform(roots[:, CONTEXT - 1], translation[:, CONTEXT - 1])
-    roots, translation = transform_root(turn, shift, roots, translation)
-    rotations = rotations.at[:, :, 0].set(matrix_to_axis_angle(roots, check=False))
-    poses = pose135(rotations, translation)
+    poses, _, _ = normalised_poses(batch["rotations"], batch["translation"], CONTEXT - 1)  # [B, K + T, 135]
     moves = jnp.any(batch["tags"] & root_tags, axis=-1)  # [B]
     mask = batch["mask"][:, CONTEXT:]
-    path = jnp.where((moves[:, None] & mask)[..., None], translation[:, CONTEXT:, jnp.array([0, 2])], 0.0)
+    ground = poses[:, CONTEXT:, POSE135_SIZE - 3:][..., jnp.array([0, 2])]  # the normalised root's (x, z)
+    path = jnp.where((moves[:, None] & mask)[..., None], ground, 0.0)
     return {"context": poses[:, :CONTEXT], "target": poses[:, CONTEXT:], "mask": mask, "path": path,
             "tags": batch["tags"], "next_tags": batch["next_tags"]}
 

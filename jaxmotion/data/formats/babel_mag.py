@@ -48,7 +48,7 @@ from jaxmotion.data.formats.babel import (AMASS_TO_LIBRARY, BABEL_DIR, FPS, _get
                                           babel_sequences, label_categories, smpl_features)
 from jaxmotion.data.formats.ntu_recon import smpl_motions
 from jaxmotion.data.motion import MotionDataset, pack
-from jaxmotion.data.segments import Segments, concatenate_segments
+from jaxmotion.data.segments import Segments
 from jaxmotion.data.mag_tags import KINDS, TAG_NAMES
 from jaxmotion.geometry.skeletons import SMPL24
 
@@ -142,43 +142,38 @@ def read_tag_map(path: str | Path) -> dict[str, str | None]:
     return dict(mapping)
 
 
+_KIND = np.array([KINDS[name] for name in TAG_NAMES])
+_INTENTION = np.isin(_KIND, ("root", "in place"))
+_STAND = TAG_NAMES.index("Stand")
+
+
 def resolve_actions(labels: list[tuple[int, int, tuple[str, ...]]], frames: int
                     ) -> tuple[list[tuple[int, int, tuple[int, ...]]], int, int]:
     """``labels``: ``(start, end, tags)`` per label of a sequence of ``frames`` frames -> ``(actions as (start, end,
-    tag ids), ambiguous frames, short runs dropped)``, by the rules of the module docstring (steps 2-3)."""
-    kind = KINDS
-    covering = [[] for _ in range(frames)]
+    tag ids), ambiguous frames, short runs dropped)``, by the rules of the module docstring (steps 2-3), all frames
+    at once."""
+    if frames < 1:
+        return [], 0, 0
+    present = np.zeros((frames, len(TAG_NAMES)), bool)  # [T, C] the tags of every label covering each frame
     for start, end, tags in labels:
-        for f in range(start, end):
-            covering[f].extend(tags)
-    resolved: list[tuple[int, ...] | None] = []
-    ambiguous = 0
-    for tags in covering:
-        present = set(tags)
-        intentions = {t for t in present if kind[t] in ("root", "in place")}
-        states = {t for t in present if kind[t] == "state"}
-        parts = {t for t in present if kind[t] == "body part"}
-        if len(intentions) == 1:
-            chosen = tuple(intentions)
-        elif intentions or len(states) > 1:
-            chosen = None
-            ambiguous += 1
-        elif states or parts:
-            chosen = (*(states or {"Stand"}), *sorted(parts))
-        else:
-            chosen = None
-        resolved.append(None if chosen is None else tuple(sorted(TAG_NAMES.index(t) for t in chosen)))
+        present[start:end, [TAG_NAMES.index(t) for t in tags]] = True
+    intentions = (present & _INTENTION).sum(axis=1)
+    states = (present & (_KIND == "state")).sum(axis=1)
+    ambiguous = (intentions > 1) | ((intentions == 0) & (states > 1))
+    chosen = np.where((intentions == 1)[:, None], present & _INTENTION, present)  # an intention wins alone
+    chosen[(intentions == 0) & (states == 0) & present.any(axis=1), _STAND] = True  # body parts alone: standing
+    chosen[ambiguous] = False
+    # runs of frames with the same tags; rows without any are no action
+    change = np.flatnonzero(np.any(chosen[1:] != chosen[:-1], axis=1)) + 1
+    bounds = np.concatenate([[0], change, [frames]])
     actions, short = [], 0
-    start = 0
-    for f in range(1, frames + 1):
-        if f == frames or resolved[f] != resolved[start]:
-            if resolved[start] is not None:
-                if f - start >= MIN_FRAMES:
-                    actions.append((start, f, resolved[start]))
-                else:
-                    short += 1
-            start = f
-    return actions, ambiguous, short
+    for start, end in zip(bounds[:-1], bounds[1:]):
+        if chosen[start].any():
+            if end - start >= MIN_FRAMES:
+                actions.append((int(start), int(end), tuple(int(t) for t in np.flatnonzero(chosen[start]))))
+            else:
+                short += 1
+    return actions, int(ambiguous.sum()), short
 
 
 def _labels(sequence: dict, frames: int, root_height: np.ndarray, tag_map: Mapping[str, str | None], *,
@@ -220,7 +215,7 @@ def read_babel_mag(root: str | Path, split: str = "train", *, tag_map: str | Pat
     root = Path(root)
     mapping = {c: tag for c, (tag, _) in TAG_MAP.items()} if tag_map is None else read_tag_map(tag_map)
     json_path = root / BABEL_DIR / f"{'train' if split == 'train' else 'val'}.json"
-    keys, features, tables = [], [], []
+    keys, features, labels_of, rows = [], [], [], []
     no_tag, ambiguous, short, skipped = Counter(), 0, 0, 0
     for sid, sequence, poses, trans in babel_sequences(json_path, root):
         frames = len(poses)
@@ -233,27 +228,24 @@ def read_babel_mag(root: str | Path, split: str = "train", *, tag_map: str | Pat
         ambiguous, short = ambiguous + ambiguous_frames, short + short_runs
         if not actions:
             continue
+        rows += _rows(len(keys), actions)
         keys.append(sid)
         features.append(smpl_features(poses, trans))
-        tables.append(_segments(actions))
-    motions = smpl_motions(keys, features, AMASS_TO_LIBRARY, [int(t.primary[0]) for t in tables], [-1] * len(keys))
+        labels_of.append(actions[0][2][0])  # the first action's first tag
+    motions = smpl_motions(keys, features, AMASS_TO_LIBRARY, labels_of, [-1] * len(keys))
     data = pack(motions, name="mag", split=split, class_names=TAG_NAMES, skeleton=SMPL24, fps=FPS)
-    data = dataclasses.replace(data, segments=concatenate_segments(tables, [1] * len(tables)) if tables
-                               else Segments.empty(len(TAG_NAMES)))
-    report = MagReport(len(keys), len(data.segments), no_tag, ambiguous, short, skipped)
+    data = dataclasses.replace(data, segments=Segments.from_rows(rows, len(TAG_NAMES)))
+    report = MagReport(len(keys), len(rows), no_tag, ambiguous, short, skipped)
     return data, report
 
 
-def _segments(actions: list[tuple[int, int, tuple[int, ...]]]) -> Segments:
-    """One take's actions -> its table; the next action's tags where it follows within MAX_GAP, else its own."""
-    flags = np.zeros((len(actions), 2, len(TAG_NAMES)), bool)
-    for row, (start, end, tags) in enumerate(actions):
-        flags[row, 0, list(tags)] = True
-        follows = row + 1 < len(actions) and actions[row + 1][0] - end <= MAX_GAP
-        flags[row, 1, list(actions[row + 1][2] if follows else tags)] = True
-    column = (lambda k: np.array([a[k] for a in actions], np.int32))
-    return Segments(np.zeros(len(actions), np.int32), column(0), column(1), flags[:, 0], flags[:, 1],
-                    np.full(len(actions), -1, np.int32))
+def _rows(sequence: int, actions: list[tuple[int, int, tuple[int, ...]]]) -> list[tuple]:
+    """One take's actions as segment rows; the next action's tags where it follows within MAX_GAP, else its own."""
+    rows = []
+    for k, (start, end, tags) in enumerate(actions):
+        follows = k + 1 < len(actions) and actions[k + 1][0] - end <= MAX_GAP
+        rows.append((sequence, start, end, tags, actions[k + 1][2] if follows else tags, -1))
+    return rows
 
 
 def load_babel_mag(root: str | Path, split: str = "train") -> MotionDataset:

@@ -77,7 +77,6 @@ class Joined:
     ground: np.ndarray  # [T, 2]
     flight_speed: np.ndarray  # [T]
     flight_carry: np.ndarray  # [T]
-    bounds: np.ndarray  # [pieces + 1] frame offsets of the pieces (the lead-in first)
 
 
 def perform_plan(plan: TakePlan, fps: float, rng: np.random.Generator, subject: Subject) -> Joined:
@@ -97,10 +96,10 @@ def perform_plan(plan: TakePlan, fps: float, rng: np.random.Generator, subject: 
         ground.append(take.ground + ground[-1][-1].mean() - take.ground[0].mean())
     whole = Take(len(angles), fps, rng, subject, "")
     whole.angles = angles
-    bounds = np.concatenate([[0], np.cumsum([t.num_frames for t in pieces])])
-    per_frame = (lambda values: np.repeat(np.asarray(values, float), np.diff(bounds)))
+    lengths = [t.num_frames for t in pieces]
+    per_frame = (lambda values: np.repeat(np.asarray(values, float), lengths))
     return Joined(finish(whole), np.concatenate(contact), np.concatenate(ground),
-                  per_frame([t.flight_speed for t in pieces]), per_frame([t.flight_carry for t in pieces]), bounds)
+                  per_frame([t.flight_speed for t in pieces]), per_frame([t.flight_carry for t in pieces]))
 
 
 def inertialized(before: np.ndarray, after: np.ndarray, blend: int) -> np.ndarray:

@@ -224,12 +224,7 @@ def plan_segments(plans: Sequence[TakePlan], num_tags: int) -> Segments:
             after = plan.actions[k + 1] if k + 1 < len(plan.actions) else action
             rows.append((i, start, start + action.frames, action.tags, after.tags, action.mode_index))
             start += action.frames
-    flags = np.zeros((len(rows), 2, num_tags), bool)
-    for r, (*_, tags, after, _) in enumerate(rows):
-        flags[r, 0, list(tags)] = True
-        flags[r, 1, list(after)] = True
-    column = (lambda k: np.array([row[k] for row in rows], np.int32))
-    return Segments(column(0), column(1), column(2), flags[:, 0], flags[:, 1], column(5))
+    return Segments.from_rows(rows, num_tags)
 
 
 def _stage(variant: Variant, split: str, seed: int, index: int, action: int, mode: int,
@@ -370,18 +365,17 @@ def generate_split(variant: Variant, split: str, seed: int, count: int | None = 
     if variant.takes is not None:
         plans = tuple(variant.takes(split, seed))[:count]
         segments = plan_segments(plans, len(variant.classes))
-        actions = np.array([plan.actions[0].tags[0] for plan in plans], np.int32)
-        modes = np.array([plan.actions[0].mode_index for plan in plans], np.int32)
+        firsts = np.searchsorted(segments.sequence, np.arange(len(plans)))  # each take's first action
+        actions, modes = segments.primary[firsts], segments.modes[firsts]
     else:
         actions, modes = schedule(variant, split)
         if count is not None:
             actions, modes = actions[:count], modes[:count]
     bodies = {s: subject(variant, s, seed) for s in variant.splits[split].subjects}
-    if variant.takes is not None:
-        items = (_perform_take(variant, split, seed, i, plan, bodies) for i, plan in enumerate(plans))
-        frames_of, chunk, first_subject = (lambda p: len(p.angles)), _chunk, (lambda p: p.subject.index)
-    elif variant.persons == 1:
-        items = (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))
+    if variant.persons == 1:
+        items = ((_perform_take(variant, split, seed, i, plan, bodies) for i, plan in enumerate(plans))
+                 if variant.takes is not None else
+                 (_perform(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes))))
         frames_of, chunk, first_subject = (lambda p: len(p.angles)), _chunk, (lambda p: p.subject.index)
     else:
         items = (_stage(variant, split, seed, i, int(a), int(m), bodies) for i, (a, m) in enumerate(zip(actions, modes)))

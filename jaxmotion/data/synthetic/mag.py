@@ -33,7 +33,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from jaxmotion.data.mag_tags import TAG_NAMES, TAGS
+from jaxmotion.data.mag_tags import KINDS, TAG_NAMES, TAGS
 from jaxmotion.data.synthetic import babel120, skills
 from jaxmotion.data.synthetic.chain import PlannedAction, TakePlan
 from jaxmotion.data.synthetic.engine import ActionClass
@@ -76,9 +76,9 @@ REUSED = {
 }
 _BABEL = {c.name: c for c in babel120.CLASSES}
 
-#: Tags whose action starts seated, and those that end seated; every other action starts and ends standing.
+#: Tags whose action starts seated (a take beginning with one gets a seated lead-in); which actions end seated is
+#: in FOLLOWERS, which lets only seated actions follow them.
 STARTS_SEATED = frozenset({"Stand Up", "Sit", "Using Object and Sit"})
-ENDS_SEATED = frozenset({"Sit Down", "Sit", "Using Object and Sit"})
 
 #: Plausible next actions (by their first tag) and their weights; any other order does not occur.
 FOLLOWERS: dict[str, dict[str, float]] = {
@@ -127,6 +127,8 @@ _ARMS = tuple(SMPL24.index(f"{side}_{j}") for side in ("left", "right")
               for j in ("collar", "shoulder", "elbow", "wrist", "hand"))
 _UPPER = (*(SMPL24.index(j) for j in ("spine1", "spine2", "spine3")), *_HEAD, *_ARMS)
 _OVERLAID = {"Head Movement": _HEAD, "Arm Movement": _ARMS}
+#: Body parts that need the stance: performed as the action's lead (standing only, at most one of them).
+_STANCE_PARTS = ("Waist Movement", "Leg Movement")
 
 
 def _reused(tag: str) -> ActionClass:
@@ -192,7 +194,7 @@ def split_counts(split: str) -> dict[str, int]:
 
 def split_actions(split: str) -> int:
     """The actions of ``split``: its intention and state tags (body parts ride on state actions)."""
-    return sum(n for tag, n in split_counts(split).items() if TAGS[_ID[tag]].kind != "body part")
+    return sum(n for tag, n in split_counts(split).items() if KINDS[tag] != "body part")
 
 
 def _draw(rng: np.random.Generator, weights: dict[str, float]) -> str:
@@ -203,7 +205,7 @@ def _draw(rng: np.random.Generator, weights: dict[str, float]) -> str:
 
 def _sequences(counts: dict[str, int], rng: np.random.Generator) -> list[list[str]]:
     """Each take's actions by their first tag: every action of ``counts`` (intention and state tags) once."""
-    left = {tag: n for tag, n in counts.items() if _ID[tag] < _ID["Head Movement"] and n > 0}
+    left = {tag: n for tag, n in counts.items() if KINDS[tag] != "body part" and n > 0}
     takes = []
     while left:
         size = int(rng.integers(ACTIONS_PER_TAKE[0], ACTIONS_PER_TAKE[1] + 1))
@@ -223,18 +225,17 @@ def _sequences(counts: dict[str, int], rng: np.random.Generator) -> list[list[st
 def _body_parts(takes: list[list[str]], counts: dict[str, int], rng: np.random.Generator) -> dict[tuple, list[str]]:
     """Body-part tags given to the state actions: leg and waist movements to standing ones (each at most one of
     the two), head and arm movements to any; ``(take, position) -> parts``."""
-    states = [(i, k) for i, take in enumerate(takes) for k, tag in enumerate(take) if tag in ("Stand", "Bend", "Sit")]
+    states = [(i, k) for i, take in enumerate(takes) for k, tag in enumerate(take) if KINDS[tag] == "state"]
     standing = [slot for slot in states if takes[slot[0]][slot[1]] == "Stand"]
     parts: dict[tuple, list[str]] = {}
     used_for_stance: set[tuple] = set()
-    for part, pool in (("Waist Movement", standing), ("Leg Movement", standing), ("Arm Movement", states),
-                       ("Head Movement", states)):
-        eligible = [s for s in pool if s not in used_for_stance] if part in ("Waist Movement", "Leg Movement") else pool
+    for part, pool in (*((p, standing) for p in _STANCE_PARTS), ("Arm Movement", states), ("Head Movement", states)):
+        eligible = [s for s in pool if s not in used_for_stance] if part in _STANCE_PARTS else pool
         chosen = rng.choice(len(eligible), size=min(counts[part], len(eligible)), replace=False)
         for c in sorted(chosen.tolist()):
             slot = eligible[c]
             parts.setdefault(slot, []).append(part)
-            if part in ("Waist Movement", "Leg Movement"):
+            if part in _STANCE_PARTS:
                 used_for_stance.add(slot)
     return parts
 
@@ -243,7 +244,7 @@ def _action(tags: tuple[str, ...], rng: np.random.Generator) -> tuple[Callable[[
     """The perform function of an action with ``tags`` (first: its intention or state tag), its mode's name and the
     mode's index among the first tag's modes (-1 where another tag's performance leads)."""
     first, parts = tags[0], tags[1:]
-    stance = [p for p in parts if p in ("Leg Movement", "Waist Movement")]
+    stance = [p for p in parts if p in _STANCE_PARTS]
     lead = stance[0] if stance else first
     modes = _MODES[lead]
     index = int(rng.integers(len(modes)))
