@@ -12,6 +12,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Literal
 
+import numpy as np
+
 Kind = Literal["root", "in place", "state", "body part"]
 
 
@@ -43,3 +45,12 @@ TAGS = tuple(Tag(*row) for row in (
 ))
 TAG_NAMES = tuple(t.name for t in TAGS)
 KINDS = {t.name: t.kind for t in TAGS}
+
+
+def root_tag_mask(class_names: tuple[str, ...]) -> np.ndarray:
+    """``[C]`` bool: which of ``class_names`` move the root (the "root" kind); a name that is not a BABEL-MAG tag
+    is an error."""
+    unknown = [name for name in class_names if name not in KINDS]
+    if unknown:
+        raise ValueError(f"class_names: expected BABEL-MAG's tags; {unknown[0]!r} is not one")
+    return np.array([KINDS[name] == "root" for name in class_names])

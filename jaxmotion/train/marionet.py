@@ -19,6 +19,7 @@ below ``gate`` (:class:`MarionetTraining`).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from pathlib import Path
 
 import jax
@@ -27,7 +28,7 @@ import numpy as np
 import optax
 
 from jaxmotion.config import check_at_least
-from jaxmotion.data.mag_tags import KINDS
+from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.pipeline import action_item_batches
 from jaxmotion.geometry.representations import POSE135_SIZE
@@ -70,14 +71,6 @@ class MarionetTraining:
         if not self.learning_rate > 0 or not self.gate > 0:
             raise ValueError(f"MarionetTraining.learning_rate, gate: expected positive values, got "
                              f"{self.learning_rate}, {self.gate}")
-
-
-def root_tag_mask(class_names: tuple[str, ...]) -> np.ndarray:
-    """``[C]`` bool: the tags that move the root (BABEL-MAG's "root" kind); an unknown tag name is an error."""
-    unknown = [name for name in class_names if name not in KINDS]
-    if unknown:
-        raise ValueError(f"class_names: MARIONET trains on BABEL-MAG's tags; {unknown[0]!r} is not one")
-    return np.array([KINDS[name] == "root" for name in class_names])
 
 
 def marionet_inputs(batch: dict[str, jax.Array], root_tags: jax.Array) -> dict[str, jax.Array]:
@@ -133,25 +126,35 @@ def marionet_step(training: MarionetTraining, root_tags: np.ndarray):
     return step_fn
 
 
-def train_marionet(data: MotionDataset, training: MarionetTraining, key: jax.Array,
-                   workdir: str | Path | None = None, *, progress: bool = True, **loop_options) -> MarionetParams:
-    """Fit MARIONET on the action items of ``data`` (a multi-action dataset: synth-mag, mag) of at most
-    ``training.max_frames`` frames, resuming from ``workdir``'s checkpoints; returns the parameters.
-    ``loop_options``: the loop's ``mesh``, ``init_from``, ``eval_fn``."""
-    if data.num_classes != training.model.num_tags:
-        raise ValueError(f"MarionetTraining.model.num_tags: {training.model.num_tags}, but {data.name} has "
-                         f"{data.num_classes} tags")
+def fit_action_items(data: MotionDataset, key: jax.Array, *, num_tags: int, batch_size: int, max_frames: int,
+                     init_state: Callable[[jax.Array], TrainState], step_fn: Callable, loop: LoopConfig,
+                     workdir: str | Path | None = None, progress: bool = True, **loop_options) -> TrainState:
+    """The shared loop (:func:`~jaxmotion.train.fit.fit`) on the action items of ``data`` (a multi-action dataset:
+    synth-mag, mag) of at most ``max_frames`` frames, batched whole (:func:`~jaxmotion.data.pipeline.
+    action_item_batches`): what every trainer of Neural Marionette's tables (MARIONET and the baselines it is
+    compared with) runs, ``step_fn`` reading each batch through :func:`marionet_inputs`."""
+    if data.num_classes != num_tags:
+        raise ValueError(f"model.num_tags: {num_tags}, but {data.name} has {data.num_classes} tags")
     if data.rotations is None:
-        raise ValueError(f"data: {data.name} has joint positions only; MARIONET's pose is joint rotations")
+        raise ValueError(f"data: {data.name} has joint positions only; Neural Marionette's pose is joint rotations")
     items = data.action_items(CONTEXT)
-    keep = np.flatnonzero(items.durations <= training.max_frames)
+    keep = np.flatnonzero(items.durations <= max_frames)
     if not len(keep):
         raise ValueError(f"data: no action of {data.name}/{data.split} has context frames and at most "
-                         f"{training.max_frames} frames")
+                         f"{max_frames} frames")
     items = dataclasses.replace(items, data=items.data.subset(keep), tags=items.tags[keep],
                                 next_tags=items.next_tags[keep], durations=items.durations[keep])
-    spec, labels = action_item_batches(items, training.batch_size)
-    state = fit(items.data, key, init_state=lambda k: marionet_state(training, k),
-                step_fn=marionet_step(training, root_tag_mask(data.class_names)), batch=spec, labels=labels,
-                loop=training.loop, workdir=workdir, progress=progress, **loop_options)
+    spec, labels = action_item_batches(items, batch_size)
+    return fit(items.data, key, init_state=init_state, step_fn=step_fn, batch=spec, labels=labels, loop=loop,
+               workdir=workdir, progress=progress, **loop_options)
+
+
+def train_marionet(data: MotionDataset, training: MarionetTraining, key: jax.Array,
+                   workdir: str | Path | None = None, *, progress: bool = True, **loop_options) -> MarionetParams:
+    """Fit MARIONET on the action items of ``data`` (:func:`fit_action_items`), resuming from ``workdir``'s
+    checkpoints; returns the parameters. ``loop_options``: the loop's ``mesh``, ``init_from``, ``eval_fn``."""
+    state = fit_action_items(data, key, num_tags=training.model.num_tags, batch_size=training.batch_size,
+                             max_frames=training.max_frames, init_state=lambda k: marionet_state(training, k),
+                             step_fn=marionet_step(training, root_tag_mask(data.class_names)), loop=training.loop,
+                             workdir=workdir, progress=progress, **loop_options)
     return state.params
