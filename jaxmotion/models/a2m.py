@@ -50,6 +50,20 @@ experiments; it is not what the authors ran. The draws come from the ``key`` pas
   ``L_b = T`` (the original, where all clips of a batch have ``motion_length`` frames). ``L = 1`` gives 0.
 * per-frame random keys are ``fold_in(key, t)``, so a sequence's first frames draw the same noise whatever
   the padded length.
+* the condition may be any ``[B, C]`` vector in place of the one-hot (class ids ``[B]`` still give the one-hot,
+  with identical numbers), and frame 0's ``x_prev`` may be a given ``first_pose [B, F]`` instead of zeros
+  (:func:`a2m_vae_forward`, :func:`a2m_vae_loss`, :func:`a2m_generate`; the defaults are the original).
+  ``a2m_generate(key=None)`` decodes the prior's mean at every frame.
+
+**Neural Marionette's adaptation** (its Table 1 and 3 baseline, §5.1.1: A2M "with two changes": 6D rotations
+instead of the Lie representation, and "the same initial pose as our setting rather than a rest pose"; no
+trajectory). One code path with the original, only the inputs differ: the pose is MARIONET's 135 numbers
+(:func:`jaxmotion.geometry.representations.pose135`: 22 joints' 6D rotations + the root translation) in the
+normalised frame of the last context pose, ``pose_dim = 135``; the condition is the action's multi-hot tags
+``[B, 31]`` in place of the one-hot class; the initial pose is the last context pose, fed as ``x_prev`` at frame
+0 instead of zeros, in training (``first_pose``) and generation. The next tag, the path and the other five context
+frames are not given to it (the paper says nothing of them). :func:`a2m_continue` generates with MARIONET's
+contract; the trainer is :func:`jaxmotion.train.a2m.train_a2m_actions`.
 
 **Training configuration** (:class:`A2MOptimizer`; batch, clip length and steps in
 :class:`jaxmotion.train.a2m.A2MTraining`): three torch ``Adam(lr 2e-4, betas (0.9, 0.999),
@@ -72,6 +86,7 @@ from typing import Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 import optax
 
 from jaxmotion.data.labels import check_actions
@@ -238,23 +253,26 @@ def _feedback_draws(key: jax.Array, config: A2MVAEConfig, num_frames: int) -> ja
 
 
 def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array, actions: jax.Array, *,
-                    key: jax.Array, mask: jax.Array | None = None) -> dict[str, jax.Array]:
+                    key: jax.Array, mask: jax.Array | None = None,
+                    first_pose: jax.Array | None = None) -> dict[str, jax.Array]:
     """Training-mode pass: posterior samples, decoding with the feedback quirk, prior alongside.
 
-    ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
+    ``poses [B, T, F]``, ``actions``: class ids ``[B]`` (int; one-hot, the original) or a condition ``[B, C]``
+    (bool or float, e.g. multi-hot tags; used as is in place of the one-hot), ``mask [B, T]`` (bool, True = real
+    frame; None = all real), ``first_pose [B, F]``: frame 0's ``x_prev`` (None: zeros, the original).
     ``key`` is split into the feedback draw(s) and the per-frame posterior noise.
 
     Returns ``recon [B, T, F]`` (decoded poses), ``mu_q, logvar_q, mu_p, logvar_p [B, T, Z]``,
     ``feedback [T]`` (bool, True where frame t's ``x_prev`` was the model's own output; frame 0 always gets
-    zeros) and ``mask [B, T]``.
+    ``first_pose``) and ``mask [B, T]``.
     """
     poses = jnp.asarray(poses)
     if poses.ndim != 3 or poses.shape[-1] != config.pose_dim or poses.shape[1] < 1:
         raise ValueError(f"poses: expected shape [B, T, {config.pose_dim}] (B, T >= 1, F = pose_dim), "
                          f"got {poses.shape}")
-    b, t_len, f = poses.shape
-    check_actions(actions, config.num_classes, count=b)
-    actions = jnp.asarray(actions)
+    b, t_len, _ = poses.shape
+    condition = _condition(actions, config.num_classes, count=b)
+    first_pose = _first_pose(first_pose, config.pose_dim, b)
     if mask is None:
         mask = jnp.ones((b, t_len), bool)
     else:
@@ -267,7 +285,6 @@ def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array
     k_feedback, k_noise = jax.random.split(key)
     own = _feedback_draws(k_feedback, config, t_len)
 
-    one_hot = jax.nn.one_hot(actions, config.num_classes, dtype=jnp.float32)  # [B, C]
     poses_t = jnp.swapaxes(poses, 0, 1)  # [T, B, F]
     if config.time_counter:
         extras = _time_counter(mask.sum(1), t_len)  # [T, B, 1]
@@ -277,7 +294,7 @@ def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array
     def step(carry, inputs):
         h_prior, h_post, h_dec, x_prev = carry
         x_t, extra_t, key_t, own_t = inputs
-        label = jnp.concatenate([one_hot, extra_t], -1)
+        label = jnp.concatenate([condition, extra_t], -1)
         cond = jnp.concatenate([x_prev, label], -1)
         h_post, mu_q, logvar_q = _gaussian_step(params.posterior_net, h_post, jnp.concatenate([x_t, label], -1))
         h_prior, mu_p, logvar_p = _gaussian_step(params.prior_net, h_prior, cond)
@@ -288,7 +305,7 @@ def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array
 
     h = config.hidden
     carry = (_zeros_state(b, h, config.prior_layers), _zeros_state(b, h, config.posterior_layers),
-             _zeros_state(b, h, config.decoder_layers), jnp.zeros((b, f), jnp.float32))
+             _zeros_state(b, h, config.decoder_layers), first_pose)
     # own[t] decides what becomes x_prev of frame t + 1; shift so that ``feedback[t]`` describes frame t.
     _, outs = jax.lax.scan(step, carry, (poses_t, extras, _step_keys(k_noise, t_len), own))
     recon, mu_q, logvar_q, mu_p, logvar_p = (jnp.swapaxes(o, 0, 1) for o in outs)
@@ -298,15 +315,17 @@ def a2m_vae_forward(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array
 
 
 def a2m_vae_loss(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array, actions: jax.Array, *,
-                 key: jax.Array, mask: jax.Array | None = None) -> tuple[jax.Array, dict[str, jax.Array]]:
+                 key: jax.Array, mask: jax.Array | None = None,
+                 first_pose: jax.Array | None = None) -> tuple[jax.Array, dict[str, jax.Array]]:
     """``(loss, metrics)`` of a batch; see the module docstring for the exact normalisation.
 
-    ``poses [B, T, F]``, ``actions [B]`` (int), ``mask [B, T]`` (bool, True = real frame; None = all real).
+    ``poses [B, T, F]``, ``actions [B]`` (int) or ``[B, C]`` (a condition), ``mask [B, T]`` (bool, True = real
+    frame; None = all real), ``first_pose [B, F]`` (None: zeros), as in :func:`a2m_vae_forward`.
     ``metrics``: ``loss``, ``recon`` (Σ_t MSE), ``kl`` (Σ_t KL / B, before λ), and the per-frame averages the
     authors log, ``loss_per_frame``, ``recon_per_frame``, ``kl_per_frame`` (divided by the mean number of
     real frames per sequence, which is ``T`` without a mask).
     """
-    out = a2m_vae_forward(config, params, poses, actions, key=key, mask=mask)
+    out = a2m_vae_forward(config, params, poses, actions, key=key, mask=mask, first_pose=first_pose)
     b = out["recon"].shape[0]
     m = out["mask"].astype(jnp.float32)  # [B, T]
     se = jnp.square(out["recon"] - jnp.asarray(poses, jnp.float32)).mean(-1)  # [B, T]
@@ -321,33 +340,105 @@ def a2m_vae_loss(config: A2MVAEConfig, params: A2MVAEParams, poses: jax.Array, a
 
 
 def a2m_generate(config: A2MVAEConfig, params: A2MVAEParams, actions: jax.Array, num_frames: int, *,
-                 key: jax.Array) -> jax.Array:
-    """Sample motions: ``actions [B]`` (int) -> ``poses [B, num_frames, F]``.
+                 key: jax.Array | None, first_pose: jax.Array | None = None) -> jax.Array:
+    """Sample motions: ``actions`` (class ids ``[B]`` or a condition ``[B, C]``, as in :func:`a2m_vae_forward`)
+    -> ``poses [B, num_frames, F]``.
 
-    ``z_t`` from the learned prior, each output fed back as the next ``x_prev`` (zeros at frame 0), time
-    counter ``t / (num_frames − 1)``. ``num_frames`` is a Python int (static under ``jit``).
+    ``z_t`` from the learned prior (``key`` None: its mean), each output fed back as the next ``x_prev``
+    (``first_pose [B, F]`` at frame 0; None: zeros, the original), time counter ``t / (num_frames − 1)``.
+    ``num_frames`` is a Python int (static under ``jit``).
     """
     if not isinstance(num_frames, int) or num_frames < 1:
         raise ValueError(f"num_frames: expected a positive int, got {num_frames!r}")
-    check_actions(actions, config.num_classes)
-    actions = jnp.asarray(actions)
-    b = actions.shape[0]
-    one_hot = jax.nn.one_hot(actions, config.num_classes, dtype=jnp.float32)
+    condition = _condition(actions, config.num_classes)
+    b = condition.shape[0]
+    first_pose = _first_pose(first_pose, config.pose_dim, b)
+    return _prior_rollout(config, params, condition, first_pose, jnp.full((b,), num_frames), num_frames, key)
+
+
+def _condition(actions, num_classes: int, *, count: int | None = None, where: str = "actions") -> jax.Array:
+    """The per-sequence condition ``[B, C]`` (float32): class ids ``[B]`` (int) -> their one-hot (the original);
+    a bool or float ``[B, C]`` (multi-hot tags, Neural Marionette's adaptation) -> itself."""
+    dtype = actions.dtype if hasattr(actions, "dtype") else np.asarray(actions).dtype
+    if np.ndim(actions) == 2 and (jnp.issubdtype(dtype, jnp.floating) or jnp.issubdtype(dtype, jnp.bool_)):
+        shape = np.shape(actions)
+        if shape[1] != num_classes or (count is not None and shape[0] != count):
+            rows = "B" if count is None else count
+            raise ValueError(f"{where}: expected a [{rows}, {num_classes}] condition (one column per class) or "
+                             f"[{rows}] integer class ids, got {dtype} {tuple(shape)}")
+        return jnp.asarray(actions, jnp.float32)
+    check_actions(actions, num_classes, count=count, where=where)
+    return jax.nn.one_hot(jnp.asarray(actions), num_classes, dtype=jnp.float32)
+
+
+def _first_pose(first_pose, pose_dim: int, batch: int) -> jax.Array:
+    """Frame 0's ``x_prev [B, F]``: ``first_pose`` or zeros (the original's rest pose)."""
+    if first_pose is None:
+        return jnp.zeros((batch, pose_dim), jnp.float32)
+    if np.shape(first_pose) != (batch, pose_dim):
+        raise ValueError(f"first_pose: expected shape [{batch}, {pose_dim}] (B, F = pose_dim), got "
+                         f"{tuple(np.shape(first_pose))}")
+    return jnp.asarray(first_pose, jnp.float32)
+
+
+def _prior_rollout(config: A2MVAEConfig, params: A2MVAEParams, condition: jax.Array, first_pose: jax.Array,
+                   lengths: jax.Array, num_frames: int, key: jax.Array | None) -> jax.Array:
+    """Generation: ``condition [B, C]``, ``first_pose [B, F]``, ``lengths [B]`` (each row's time counter runs over
+    its own length) -> ``poses [B, num_frames, F]``; ``z_t`` sampled from the prior with ``fold_in(key, t)``, or
+    its mean where ``key`` is None."""
+    b = condition.shape[0]
     if config.time_counter:
-        extras = _time_counter(jnp.full((b,), num_frames), num_frames)
+        extras = _time_counter(lengths, num_frames)
     else:
         extras = jnp.zeros((num_frames, b, 0), jnp.float32)
 
     def step(carry, inputs):
         h_prior, h_dec, x_prev = carry
         extra_t, key_t = inputs
-        cond = jnp.concatenate([x_prev, one_hot, extra_t], -1)
+        cond = jnp.concatenate([x_prev, condition, extra_t], -1)
         h_prior, mu_p, logvar_p = _gaussian_step(params.prior_net, h_prior, cond)
-        z = _sample(key_t, mu_p, logvar_p)
+        z = mu_p if key_t is None else _sample(key_t, mu_p, logvar_p)
         h_dec, x_hat = _decoder_step(params.decoder, h_dec, jnp.concatenate([cond, z], -1))
         return (h_prior, h_dec, x_hat), x_hat
 
     carry = (_zeros_state(b, config.hidden, config.prior_layers),
-             _zeros_state(b, config.hidden, config.decoder_layers), jnp.zeros((b, config.pose_dim), jnp.float32))
-    _, poses = jax.lax.scan(step, carry, (extras, _step_keys(key, num_frames)))
+             _zeros_state(b, config.hidden, config.decoder_layers), first_pose)
+    keys = None if key is None else _step_keys(key, num_frames)
+    _, poses = jax.lax.scan(step, carry, (extras, keys), length=num_frames)
     return jnp.swapaxes(poses, 0, 1)
+
+
+# ------------------------------------------------------------------------- Neural Marionette's adaptation
+
+
+def a2m_continue(params: A2MVAEParams, config: A2MVAEConfig, context: jax.Array, tags: jax.Array,
+                 next_tags: jax.Array, path: jax.Array, mask: jax.Array, key: jax.Array | None = None) -> jax.Array:
+    """The adapted A2M of Neural Marionette's Table 1 continuing a motion, with MARIONET's contract
+    (:func:`jaxmotion.models.marionet.generate`): ``context [B, K, F]`` (K = 6 there; poses in the normalised
+    frame of the last one), ``tags [B, C]`` (multi-hot, the condition), ``next_tags [B, C]``, ``path [B, T, 2]``,
+    ``mask [B, T]`` (bool, each action's duration as its first frames) -> ``poses [B, T, F]``, zero on padding.
+
+    Generation from the prior (:func:`a2m_generate`) with the last context pose as frame 0's ``x_prev`` (the
+    "initial pose" the paper gives A2M in place of the rest pose) and the time counter over each action's own
+    duration (``mask.sum(1)``), so an action's frames do not depend on the batch's longest. ``next_tags``, ``path``
+    and the context before its last pose are **not** given to A2M (the paper gives it no trajectory; the rest is
+    unspecified): they are checked for shape and ignored. ``key`` None: ``z_t`` = the prior's mean at every frame
+    (MARIONET's ``Z = mu`` reading). ``config`` is static under ``jit``.
+    """
+    context = jnp.asarray(context)
+    if context.ndim != 3 or context.shape[1] < 1 or context.shape[2] != config.pose_dim:
+        raise ValueError(f"context: expected shape [B, K, {config.pose_dim}] (K >= 1 frames, F = pose_dim), got "
+                         f"{context.shape}")
+    b = context.shape[0]
+    condition = _condition(tags, config.num_classes, count=b, where="tags")
+    if np.shape(next_tags) != (b, config.num_classes):
+        raise ValueError(f"next_tags: expected shape [{b}, {config.num_classes}] (B, C), got "
+                         f"{tuple(np.shape(next_tags))}")
+    if np.ndim(mask) != 2 or np.shape(mask)[0] != b or np.shape(mask)[1] < 1:
+        raise ValueError(f"mask: expected shape [{b}, T] (B, T >= 1 frames), got {tuple(np.shape(mask))}")
+    frames = np.shape(mask)[1]
+    if np.shape(path) != (b, frames, 2):
+        raise ValueError(f"path: expected shape [{b}, {frames}, 2] (B, T, ground x and z), got {tuple(np.shape(path))}")
+    mask = jnp.asarray(mask).astype(bool)
+    poses = _prior_rollout(config, params, condition, context[:, -1].astype(jnp.float32), mask.sum(1), frames, key)
+    return jnp.where(mask[..., None], poses, 0.0)
