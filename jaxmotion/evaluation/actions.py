@@ -23,7 +23,8 @@ The paper says only that a recogniser "pre-trained on BABEL-MAG" scores Acc, FID
 
 An **action sampler** is any function ``(key | None, conditions) -> motions``: ``conditions`` a chunk of
 :attr:`ActionSet.conditions` (``context_rotations [N, K, 24, 3]``, ``context_translation [N, K, 3]``, ``tags``,
-``next_tags [N, C]`` bool, ``durations [N]``, ``paths [N, T, 2]``, ``follow [N]`` bool), ``motions`` a mapping with
+``next_tags [N, C]`` bool, ``actions [N]`` labels (for generators conditioned on one class), ``durations [N]``,
+``paths [N, T, 2]``, ``follow [N]`` bool), ``motions`` a mapping with
 ``joints [N, T, J, 3]`` in the world frame (and what else the evaluator reads: ``rotations``, ``translation``)
 for the same ``T`` frames; ``key=None`` asks for the deterministic reading (Z = mu).
 
@@ -112,11 +113,12 @@ def action_set(data: MotionDataset, *, max_frames: int = 120, count: int | None 
     follow = np.any(items.tags[keep] & root_tag_mask(data.class_names), axis=1)
     lengths = durations.astype(np.int32)
     conditions = {"context_rotations": sequences.rotations[context], "context_translation": sequences.translation[context],
-                  "tags": items.tags[keep], "next_tags": items.next_tags[keep], "durations": lengths,
+                  "tags": items.tags[keep], "next_tags": items.next_tags[keep],
+                  "actions": sequences.actions[keep].astype(np.int32), "durations": lengths,
                   "paths": sequences.translation[action][..., [0, 2]], "follow": follow}
     real = {"joints": sequences.joints[action], "rotations": sequences.rotations[action],
             "translation": sequences.translation[action], "lengths": lengths,
-            "actions": sequences.actions[keep].astype(np.int32)}
+            "actions": conditions["actions"]}
     return ActionSet(conditions, real)
 
 

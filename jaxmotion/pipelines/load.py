@@ -9,11 +9,13 @@ from jaxmotion.pipelines.a2m import A2MGenerator
 from jaxmotion.pipelines.actformer import ActFormerGenerator
 from jaxmotion.pipelines.actor import ActorGenerator
 from jaxmotion.pipelines.artefacts import RECORD, ArtefactError, Generator, read_artefact
+from jaxmotion.pipelines.marionette import CONTEXT_MODELS, ContextGenerator
 from jaxmotion.pipelines.odmo import ODMOGenerator
 
 #: The generator class of each method's artefacts.
-GENERATORS = MappingProxyType({cls.method: cls for cls in (ActorGenerator, A2MGenerator, ODMOGenerator,
-                                                            ActFormerGenerator)})
+GENERATORS = MappingProxyType({**{cls.method: cls for cls in (ActorGenerator, A2MGenerator, ODMOGenerator,
+                                                               ActFormerGenerator)},
+                               **{model.method: ContextGenerator for model in CONTEXT_MODELS.values()}})
 
 
 def generator_folders(path: str | Path) -> list[Path]:
