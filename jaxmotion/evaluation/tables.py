@@ -107,11 +107,11 @@ def score_rows(key: jax.Array, samplers: Mapping[str, Sampler], real: Mapping[st
     return {**{name: rows[name] for name in samplers}, "Real": rows["Real"]}
 
 
-def paper_columns(rows: Mapping[str, Mapping[str, Any]], columns: Mapping[str, str] = ACTOR_COLUMNS
-                  ) -> dict[str, dict[str, np.ndarray]]:
-    """Rows in the protocol's metric names -> the paper's ``columns`` (in their order; metrics in
-    :data:`PERCENT` × 100). Metrics the paper has no column for are dropped."""
-    return {name: {column: 100 * np.asarray(cells[metric]) if metric in PERCENT else np.asarray(cells[metric])
+def paper_columns(rows: Mapping[str, Mapping[str, Any]], columns: Mapping[str, str] = ACTOR_COLUMNS,
+                  percent: frozenset[str] = PERCENT) -> dict[str, dict[str, np.ndarray]]:
+    """Rows in the protocol's metric names -> the paper's ``columns`` (in their order; metrics in ``percent``
+    × 100: accuracy, unless the paper prints a fraction). Metrics the paper has no column for are dropped."""
+    return {name: {column: 100 * np.asarray(cells[metric]) if metric in percent else np.asarray(cells[metric])
                    for metric, column in columns.items() if metric in cells}
             for name, cells in rows.items()}
 

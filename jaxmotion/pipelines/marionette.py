@@ -40,6 +40,7 @@ from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models import marionet
 from jaxmotion.models.a2m import A2MVAEConfig, a2m_continue, init_a2m_vae
+from jaxmotion.models.mann import MannConfig, init_mann, mann_continue
 from jaxmotion.models.marionet import CONTEXT, MarionetConfig
 from jaxmotion.pipelines.artefacts import Artefact, DataFacts, SamplingGenerator, as_key, motion_records, save_artefact
 
@@ -57,7 +58,8 @@ class ContextModel(NamedTuple):
 #: The models that continue a context, by config type.
 CONTEXT_MODELS = MappingProxyType({
     MarionetConfig: ContextModel("marionet", marionet.init_marionet, marionet.generate),
-    A2MVAEConfig: ContextModel("a2m-context", init_a2m_vae, a2m_continue),  # Action2Motion adapted (the tables')
+    MannConfig: ContextModel("mann", init_mann, mann_continue),  # the tables' baselines
+    A2MVAEConfig: ContextModel("a2m-context", init_a2m_vae, a2m_continue),  # Action2Motion adapted
 })
 
 
@@ -164,6 +166,14 @@ def place_after(context_rotations: jax.Array, context_translation: jax.Array, ro
     return transform_motion(*inverse_transform(turn, shift), rotations, normalised)
 
 
+@jax.jit
+def _placed(context_rotations, context_translation, rotations, translation) -> dict[str, jax.Array]:
+    rotations, translation = place_after(context_rotations, context_translation, rotations, translation)
+    joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, SMPL24.offsets, SMPL24.parents,
+                                check=False)
+    return {"rotations": rotations, "translation": translation, "joints": joints}
+
+
 def context_free_sampler(sampler: Callable[..., Mapping[str, Any]]) -> Callable[..., dict[str, np.ndarray]]:
     """A class-conditioned protocol sampler ``(key, actions [N], durations [N]) -> motions`` (ACTOR's) as the
     single-action protocol's sampler (:mod:`jaxmotion.evaluation.actions`): each action made for its label and
@@ -179,11 +189,8 @@ def context_free_sampler(sampler: Callable[..., Mapping[str, Any]]) -> Callable[
         index = np.minimum(np.arange(frames), durations[:, None] - 1)  # each one's last frame repeats
         rotations, translation = (np.take_along_axis(np.asarray(motions[k]), index.reshape(
             *index.shape, *([1] * (np.ndim(motions[k]) - 2))), axis=1) for k in ("rotations", "translation"))
-        rotations, translation = place_after(jnp.asarray(conditions["context_rotations"]),
-                                             jnp.asarray(conditions["context_translation"]), rotations, translation)
-        joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, SMPL24.offsets, SMPL24.parents,
-                                    check=False)
-        return {"rotations": np.asarray(rotations), "translation": np.asarray(translation), "joints": np.asarray(joints)}
+        placed = _placed(conditions["context_rotations"], conditions["context_translation"], rotations, translation)
+        return {k: np.asarray(v) for k, v in placed.items()}
 
     return action_sampler
 
@@ -208,24 +215,31 @@ def start_bank(data: MotionDataset, per_tag: int = 8) -> StartBank:
     what a trained generator starts from when no context is given (paths are stretched to the duration asked)."""
     items = data.action_items(CONTEXT)
     labels = items.data.actions
-    chosen = [np.flatnonzero(labels == c)[:per_tag]
-              for c in range(data.num_classes)]
-    frames = max([int(items.durations[i].max()) for i in chosen if len(i)], default=1)
-    bank = StartBank(np.zeros((data.num_classes, per_tag, CONTEXT, 24, 3), np.float32),
-                     np.zeros((data.num_classes, per_tag, CONTEXT, 3), np.float32),
-                     np.zeros((data.num_classes, per_tag, frames, 2), np.float32),
-                     np.zeros((data.num_classes, per_tag), np.int32), np.array([len(i) for i in chosen], np.int32))
+    chosen = [np.flatnonzero(labels == c)[:per_tag] for c in range(data.num_classes)]
+    counts = np.array([len(rows) for rows in chosen], np.int32)
+    slots = np.zeros((data.num_classes, per_tag), np.int64)  # item per (tag, slot); empty slots repeat item 0
     for c, rows in enumerate(chosen):
-        for m, i in enumerate(rows):
-            first, duration = items.data.starts[i], int(items.durations[i])
-            rotations = items.data.rotations[first:first + CONTEXT + duration]
-            translation = items.data.translation[first:first + CONTEXT + duration]
-            turn, shift = heading_transform(axis_angle_to_matrix(rotations[CONTEXT - 1, 0]), translation[CONTEXT - 1])
-            rotations, translation = (np.asarray(a) for a in transform_motion(turn, shift, jnp.asarray(rotations),
-                                                                              translation))
-            bank.rotations[c, m], bank.translation[c, m] = rotations[:CONTEXT], translation[:CONTEXT]
-            bank.paths[c, m, :duration], bank.durations[c, m] = translation[CONTEXT:, [0, 2]], duration
-    return bank
+        slots[c, :len(rows)] = rows
+    durations = np.where(np.arange(per_tag) < counts[:, None], items.durations[slots], 0).astype(np.int32)
+    frames = max(int(durations.max()), 1)
+    index = (items.data.starts[slots][..., None]
+             + np.minimum(np.arange(CONTEXT + frames), CONTEXT + np.maximum(durations, 1)[..., None] - 1))
+    rotations, translation = _normalised_at_context(jnp.asarray(items.data.rotations[index]),
+                                                    jnp.asarray(items.data.translation[index]))
+    used = (np.arange(per_tag) < counts[:, None])[..., None, None]
+    ahead = np.arange(frames) < durations[..., None]
+    return StartBank(np.where(used[..., None], rotations[:, :, :CONTEXT], 0.0).astype(np.float32),
+                     np.where(used, translation[:, :, :CONTEXT], 0.0).astype(np.float32),
+                     np.where(ahead[..., None], translation[:, :, CONTEXT:, [0, 2]], 0.0).astype(np.float32),
+                     durations, counts)
+
+
+@jax.jit
+def _normalised_at_context(rotations: jax.Array, translation: jax.Array) -> tuple[np.ndarray, np.ndarray]:
+    """``rotations [..., K + T, 24, 3]``, ``translation [..., K + T, 3]`` in the normalised frame of frame K - 1."""
+    turn, shift = heading_transform(axis_angle_to_matrix(rotations[..., CONTEXT - 1, 0, :]),
+                                    translation[..., CONTEXT - 1, :])
+    return transform_motion(turn, shift, rotations, translation)
 
 
 def _stretched(path: np.ndarray, length: int, frames: int) -> np.ndarray:

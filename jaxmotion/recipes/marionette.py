@@ -1,0 +1,215 @@
+"""Neural Marionette's table rows and sizes: models that continue a context (MARIONET, and the baselines its
+Table 1 adapts: MANN, Action2Motion) and ACTOR, the context-free reference row, trained on synth-mag's actions and
+scored by the single-action protocol (:mod:`jaxmotion.evaluation.actions`).
+
+* :class:`ContextRecipe`: a trainer config of a context model (:class:`~jaxmotion.train.marionet.MarionetTraining`,
+  :class:`~jaxmotion.train.a2m.A2MActionTraining`, :class:`~jaxmotion.train.mann.MannTraining`) as a row: fit
+  trains it on the takes' action items and keeps a start bank of the training data; its generator is a
+  :class:`~jaxmotion.pipelines.marionette.ContextGenerator`.
+* :class:`ContextFreeRecipe`: ACTOR as a row: trained on the takes' actions (each labelled with its first tag),
+  placed after each test action's context to be scored (:func:`~jaxmotion.pipelines.marionette.context_free_sampler`).
+* :func:`marionet_training`, :func:`mann_training`, :func:`a2m_training`, :func:`actor_training`: the smoke / cpu /
+  paper sizes; :func:`action_table` the data, evaluator and protocol per profile; :func:`run_action_table` trains
+  a table's rows (:func:`~jaxmotion.recipes.tables.fit_rows`) and scores them together.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, NamedTuple
+
+import jax
+import numpy as np
+
+from jaxmotion.data.datasets import load_dataset
+from jaxmotion.data.motion import MotionDataset
+from jaxmotion.evaluation.actions import MARIONETTE_COLUMNS, ActionProtocol, action_set, evaluate_actions
+from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
+from jaxmotion.evaluation.tables import paper_columns
+from jaxmotion.models.actor import ActorConfig
+from jaxmotion.models.mann import MannConfig
+from jaxmotion.models.marionet import MarionetConfig
+from jaxmotion.pipelines.artefacts import DataFacts
+from jaxmotion.pipelines.marionette import ContextGenerator, StartBank, context_free_sampler, start_bank
+from jaxmotion.recipes.actor import CPU_BASELINE, ActorRecipe
+from jaxmotion.recipes.evaluators import evaluator_spec
+from jaxmotion.recipes.tables import fit_rows
+from jaxmotion.train.a2m import A2MActionTraining, train_a2m_actions
+from jaxmotion.train.actor import ActorTraining
+from jaxmotion.train.loop import LoopConfig
+from jaxmotion.train.mann import MannTraining, train_mann
+from jaxmotion.train.marionet import MarionetTraining, train_marionet
+
+#: A context model's trainer config -> its training function.
+TRAINERS = MappingProxyType({MarionetTraining: train_marionet, MannTraining: train_mann,
+                             A2MActionTraining: train_a2m_actions})
+#: Starts per tag a trained context model keeps (its start bank).
+STARTS_PER_TAG = 8
+
+
+class ContextFit(NamedTuple):
+    """What a context model's fit gives: its parameters and the start bank of its training data."""
+
+    params: Any
+    starts: StartBank
+
+
+@dataclasses.dataclass(frozen=True)
+class ContextRecipe:
+    """A context model as a table row (module docstring)."""
+
+    training: MarionetTraining | MannTraining | A2MActionTraining
+
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options
+            ) -> ContextFit:
+        if type(self.training) not in TRAINERS:
+            raise TypeError(f"training: expected one of {', '.join(t.__name__ for t in TRAINERS)}, got "
+                            f"{type(self.training).__name__}")
+        params = TRAINERS[type(self.training)](data, self.training, key, workdir, **loop_options)
+        return ContextFit(params, start_bank(data, STARTS_PER_TAG))
+
+    def generator(self, trained: ContextFit, facts: DataFacts) -> ContextGenerator:
+        return ContextGenerator(self.training.model, trained.params, facts, trained.starts,
+                                max_frames=self.training.max_frames)
+
+
+@dataclasses.dataclass(frozen=True)
+class ContextFreeRecipe:
+    """ACTOR as Neural Marionette's reference row: trained on the takes' actions (each labelled with its first tag),
+    generating for a label and a duration."""
+
+    training: ActorTraining
+
+    def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options) -> Any:
+        return ActorRecipe(self.training).fit(data.action_items(context=0).data, key, workdir, **loop_options)
+
+    def generator(self, trained: Any, facts: DataFacts):
+        return ActorRecipe(self.training).generator(trained, facts)
+
+
+def action_sampler_of(generator: Any):
+    """The single-action protocol's sampler of a trained row: a context model's own, a context-free generator's
+    class sampler placed after each context."""
+    if hasattr(generator, "action_sampler"):
+        return generator.action_sampler()
+    return context_free_sampler(generator.sampler())
+
+
+# --- sizes --------------------------------------------------------------------------------------------------------
+
+#: synth-mag's training actions per epoch at batch 30 (6 458 action items with context): the paper's 1 000 epochs.
+PAPER_STEPS = 1000 * 6458 // 30
+_SMOKE_LOOP = LoopConfig(2, log_every=1, checkpoint_every=0)
+
+
+def marionet_training(profile: str, **switches) -> MarionetTraining:
+    """MARIONET in ``profile``; ``switches``: the ablations' model fields (``time_unrolling``, ``tag_injection``,
+    ``next_tag``) and ``scheduled_sampling``. smoke: :meth:`MarionetConfig.tiny` without dropout, 2 steps at batch
+    8; cpu: d 128, 4 heads, FF 256, layers 2 / 2 / 3, Adam 3e-4 for 3 000 steps at batch 30 (the paper's 1e-4 is
+    for 215 000 steps); paper: the supplement's model and training."""
+    scheduled = switches.pop("scheduled_sampling", True)
+    if profile == "smoke":
+        model = MarionetConfig.tiny(encoder_dropout=0.0, unroll_dropout=0.0, decoder_dropout=0.0, path_dropout=0.0,
+                                    **switches)
+        return MarionetTraining(model, _SMOKE_LOOP, batch_size=8, scheduled_sampling=scheduled)
+    if profile == "cpu":
+        model = MarionetConfig(width=128, heads=4, ff=256, decoder_layers=3, **switches)
+        return MarionetTraining(model, LoopConfig(3000, log_every=100, checkpoint_every=500), learning_rate=3e-4,
+                                scheduled_sampling=scheduled)
+    if profile == "paper":
+        return MarionetTraining(MarionetConfig(**switches), LoopConfig(PAPER_STEPS, log_every=100,
+                                                                       checkpoint_every=5000),
+                                scheduled_sampling=scheduled)
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+def mann_training(profile: str) -> MannTraining:
+    """MANN adapted (:class:`~jaxmotion.train.mann.MannTraining`) in ``profile``. smoke: :meth:`MannConfig.tiny`, 2
+    steps at batch 8; cpu: 4 experts of 256 units, Adam 3e-4 for 3 000 steps at batch 30 (MARIONET's cpu
+    schedule); paper: 8 experts of 512, Adam 1e-4, MARIONET's steps."""
+    if profile == "smoke":
+        return MannTraining(MannConfig.tiny(dropout=0.0), _SMOKE_LOOP, batch_size=8)
+    if profile == "cpu":
+        return MannTraining(MannConfig(experts=4, hidden=256), LoopConfig(3000, log_every=100, checkpoint_every=500),
+                            learning_rate=3e-4)
+    if profile == "paper":
+        return MannTraining(MannConfig(), LoopConfig(PAPER_STEPS, log_every=100, checkpoint_every=5000))
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+def a2m_training(profile: str) -> A2MActionTraining:
+    """Action2Motion adapted (:class:`~jaxmotion.train.a2m.A2MActionTraining`) in ``profile``. smoke: hidden 8,
+    2 steps at batch 8; cpu: its sizes for 3 000 steps at batch 30 (as MARIONET's cpu row: rows of one table see
+    the same data); paper: its recipe."""
+    base = A2MActionTraining()
+    if profile == "smoke":
+        model = dataclasses.replace(base.model, hidden=8, latent=4, decoder_layers=1)
+        return A2MActionTraining(model, _SMOKE_LOOP, batch_size=8)
+    if profile == "cpu":
+        return A2MActionTraining(base.model, LoopConfig(3000, log_every=100, checkpoint_every=500), batch_size=30)
+    if profile == "paper":
+        return base
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+def actor_training(profile: str) -> ActorTraining:
+    """ACTOR, the reference row, on synth-mag's actions (31 classes) in ``profile``, on ACTOR's 60-frame windows
+    (it generates each test action's own duration, 31 to 120 frames). smoke: 1 layer, 2 steps; cpu: d 64, 2 layers, 3 000 steps (ACTOR's cpu baseline); paper: the
+    paper's model, batch 20, 1 000 epochs."""
+    if profile == "smoke":
+        model = ActorConfig(num_classes=31, width=16, ff=32, layers=1, heads=2, dropout=0.0)
+        return ActorTraining(model, _SMOKE_LOOP, batch_size=8)
+    if profile == "cpu":
+        return dataclasses.replace(CPU_BASELINE, model=dataclasses.replace(CPU_BASELINE.model, num_classes=31))
+    if profile == "paper":
+        return ActorTraining(ActorConfig(num_classes=31), LoopConfig(1000 * 6458 // 20, log_every=100,
+                                                                     checkpoint_every=10_000))
+    raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+
+
+# --- tables -------------------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class ActionTable:
+    """Where Neural Marionette's single-action tables train and are scored: the multi-action ``dataset`` (its train
+    split trains the rows, its test split's actions are regenerated), its ``seed`` and ``count`` (takes per split;
+    None: all), the evaluator and the protocol."""
+
+    dataset: str
+    seed: int
+    count: int | None
+    evaluator: RecognizerTraining
+    protocol: ActionProtocol
+
+
+def action_table(profile: str, *, joint_error: bool = False) -> ActionTable:
+    """synth-mag with its evaluator (``synth-mag/transformer``) in ``profile``: smoke, 12 takes and 24 test actions
+    over 2 repetitions; cpu, 5 repetitions over every test action; paper, 10 (the paper's counts are unstated)."""
+    evaluator = evaluator_spec("synth-mag/transformer", profile)
+    if profile == "smoke":
+        return ActionTable("synth-mag", 0, 12, evaluator, ActionProtocol(repetitions=2, count=24, chunk=24,
+                                                                          joint_error=joint_error))
+    repetitions = {"cpu": 5, "paper": 10}.get(profile)
+    if repetitions is None:
+        raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+    return ActionTable("synth-mag", 0, None, evaluator, ActionProtocol(repetitions=repetitions, joint_error=joint_error))
+
+
+def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: str | Path, train_key: jax.Array,
+                     eval_key: jax.Array, data_root: str | None = None, mesh=None) -> dict[str, dict[str, np.ndarray]]:
+    """Train every row on the train split's actions (:func:`~jaxmotion.recipes.tables.fit_rows`, generators written
+    beside their checkpoints) and score them together on the test split's (Neural Marionette's columns; the Real
+    row last). Rows: :class:`ContextRecipe`, :class:`ContextFreeRecipe`."""
+    train = load_dataset(table.dataset, "train", seed=table.seed, data_root=data_root, count=table.count)
+    test = load_dataset(table.dataset, "test", seed=table.seed, data_root=data_root, count=table.count)
+    actions = action_set(test, max_frames=table.protocol.max_frames, count=table.protocol.count)
+    recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)  # before any row trains
+    generators = fit_rows(rows, train, train_key, workdir, mesh=mesh)
+    samplers = {name: action_sampler_of(generator) for name, generator in generators.items()}
+    scored = evaluate_actions(eval_key, samplers, recognizer, actions, table.protocol)
+    return paper_columns({**{name: scored[name] for name in samplers}, "Real": scored["Real"]}, MARIONETTE_COLUMNS,
+                         percent=frozenset())  # the paper prints accuracy as a fraction
