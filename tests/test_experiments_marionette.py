@@ -1,0 +1,80 @@
+"""Neural Marionette's single-action tables run end to end in their smoke profiles, laid out as the paper lays them
+out; every trained row is a generator that loads and acts in one call."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from smoke_checks import assert_generations_vary, run_smoke
+
+import jaxmotion
+from experiments import marionet_ablation, marionet_single
+from jaxmotion.config import FrozenMap
+from jaxmotion.recipes.marionette import ContextFreeRecipe, ContextRecipe
+
+
+def _assert_scored(rows, row, columns):
+    assert list(rows[row]) == list(columns), row
+    assert all(np.isfinite(rows[row][c]["mean"]) for c in columns), row
+
+
+@pytest.mark.smoke
+def test_single_action_table_scores_marionet_its_baselines_and_actor(tmp_path):
+    rows = run_smoke(marionet_single, tmp_path)["rows"]
+    measured = ("MARIONET", "MANN", "A2M", "ACTOR")
+    assert list(rows) == [r for name in marionet_single.ROWS for r in (name, f"{name} (reported)")]
+    for name in measured:
+        _assert_scored(rows, name, marionet_single.COLUMNS)
+        assert_generations_vary(rows, name, "Div", "Multi-mod", share=1e-3)
+    assert list(rows["Real"]) == ["Acc", "Div", "Multi-mod"]  # no FID, no ΔTraj: the paper's "/"
+    assert rows["Real"]["Acc"]["mean"] > 2 / 31  # the smoke evaluator recognises real actions: a fraction
+    assert rows["MARIONET (reported)"] == dict(zip(marionet_single.COLUMNS, (1.115, 0.874, 9.904, 2.068, 0.129)))
+    assert "ΔTraj" not in rows["A2M (reported)"]
+    seed = tmp_path / "marionet_single" / "smoke" / "seed-0"
+    for row in ("marionet", "mann", "a2m"):  # the context models: one call from tags to an action
+        generator = jaxmotion.load_generator(seed, row=row)
+        walk = generator.action(0, "Walk", 20)
+        assert walk.lengths.tolist() == [20] and np.isfinite(walk.joints).all()
+    assert jaxmotion.load_generator(seed, row="actor").method == "actor"
+
+
+def test_single_action_rows_are_the_papers_methods():
+    config = marionet_single.MarionetSingleConfig.smoke()
+    assert list(config.rows) == ["MARIONET", "MANN", "A2M", "ACTOR"]
+    assert isinstance(config.rows["ACTOR"], ContextFreeRecipe)
+    assert all(isinstance(config.rows[r], ContextRecipe) for r in ("MARIONET", "MANN", "A2M"))
+    assert config.table.protocol.joint_error is False
+    paper = marionet_single.MarionetSingleConfig.paper()
+    assert paper.rows["MARIONET"].training.model.width == 256 and paper.rows["MARIONET"].training.batch_size == 30
+    assert paper.table.protocol.count is None
+
+
+def test_ablation_rows_switch_off_what_their_names_say():
+    rows = marionet_ablation.MarionetAblationConfig.cpu().rows
+    full = rows["MARIONET"].training
+    for name, switches in marionet_ablation.VARIANTS.items():
+        training = rows[name].training
+        expected = dataclasses.replace(full, model=dataclasses.replace(
+            full.model, **{k: v for k, v in switches.items() if k != "scheduled_sampling"}),
+            scheduled_sampling=switches.get("scheduled_sampling", True))
+        assert training == expected, name
+    assert rows["w/o TU and w/o TI"].training.model.time_unrolling is False
+    assert rows["w/o Schedule Sampling"].training.scheduled_sampling is False
+
+
+@pytest.mark.smoke
+def test_ablation_table_measures_the_joint_error_with_z_at_mu(tmp_path, monkeypatch):
+    # Two of the five rows: each row is a MARIONET compile (about 25 s here); the switches of the other three are
+    # covered above and in tests/test_marionet.py
+    smoke = marionet_ablation.MarionetAblationConfig.smoke()
+    kept = FrozenMap({name: smoke.rows[name] for name in ("MARIONET", "w/o TU and w/o TI")})
+    monkeypatch.setattr(marionet_ablation.MarionetAblationConfig, "smoke",
+                        classmethod(lambda cls: dataclasses.replace(smoke, rows=kept)))
+    rows = run_smoke(marionet_ablation, tmp_path)["rows"]
+    assert list(rows) == ["MARIONET", "MARIONET (reported)", "w/o Schedule Sampling (reported)",
+                          "w/o TU and w/o TI", "w/o TU and w/o TI (reported)", "w/o TU (reported)",
+                          "w/o TI (reported)", "Real"]
+    for name in ("MARIONET", "w/o TU and w/o TI"):
+        _assert_scored(rows, name, marionet_ablation.COLUMNS)
+        assert rows[name]["ΔJPE"]["n"] == 1  # deterministic (Z = mu): one value
+    assert rows["w/o TU (reported)"]["ΔJPE"] == 9.42
