@@ -23,8 +23,8 @@ What differs from the paper, and why:
   prints "/"); ACTOR reads no context: its actions are placed where their context ends.
 * ACTOR: L_P + L_J on the takes' actions, each labelled with its first tag.
 
-cpu profile: MARIONET d 128, layers 2/2/3, MANN 4 experts of 256, A2M its sizes, ACTOR d 64, 3 000 steps each at
-Adam 3e-4 (see :mod:`jaxmotion.recipes.marionette`); 5 repetitions over the 1 185 test actions; the evaluator is
+cpu profile: MARIONET d 64, layers 2/2/2, MANN 4 experts of 256, A2M its sizes, ACTOR d 64, 1 500 steps each at
+batch 30 (see :mod:`jaxmotion.recipes.marionette`); 5 repetitions over the 1 185 test actions; the evaluator is
 trained on first use (about 5 minutes) and cached. Measured tables: ``docs/results/`` (``python -m
 jaxmotion.results``).
 """

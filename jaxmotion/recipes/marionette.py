@@ -103,21 +103,25 @@ def action_sampler_of(generator: Any):
 #: synth-mag's training actions per epoch at batch 30 (6 458 action items with context): the paper's 1 000 epochs.
 PAPER_STEPS = 1000 * 6458 // 30
 _SMOKE_LOOP = LoopConfig(2, log_every=1, checkpoint_every=0)
+#: Every row's steps in the cpu profile (batch 30: 7 epochs of synth-mag's actions), so the rows see the same data.
+CPU_STEPS = 1500
+CPU_LOOP = LoopConfig(CPU_STEPS, log_every=100, checkpoint_every=500)
 
 
 def marionet_training(profile: str, **switches) -> MarionetTraining:
     """MARIONET in ``profile``; ``switches``: the ablations' model fields (``time_unrolling``, ``tag_injection``,
     ``next_tag``) and ``scheduled_sampling``. smoke: :meth:`MarionetConfig.tiny` without dropout, 2 steps at batch
-    8; cpu: d 128, 4 heads, FF 256, layers 2 / 2 / 3, Adam 3e-4 for 3 000 steps at batch 30 (the paper's 1e-4 is
-    for 215 000 steps); paper: the supplement's model and training."""
+    8; cpu: d 64, 4 heads, FF 256, layers 2 / 2 / 2, a 16-number path embedding, Adam 3e-4 for :data:`CPU_STEPS` at
+    batch 30 (about 0.3 s a step on 2 cores; the paper's 1e-4 is for 215 000 steps); paper: the supplement's model
+    and training."""
     scheduled = switches.pop("scheduled_sampling", True)
     if profile == "smoke":
         model = MarionetConfig.tiny(encoder_dropout=0.0, unroll_dropout=0.0, decoder_dropout=0.0, path_dropout=0.0,
                                     **switches)
         return MarionetTraining(model, _SMOKE_LOOP, batch_size=8, scheduled_sampling=scheduled)
     if profile == "cpu":
-        model = MarionetConfig(width=128, heads=4, ff=256, decoder_layers=3, **switches)
-        return MarionetTraining(model, LoopConfig(3000, log_every=100, checkpoint_every=500), learning_rate=3e-4,
+        model = MarionetConfig(width=64, heads=4, ff=256, decoder_layers=2, path_width=16, **switches)
+        return MarionetTraining(model, CPU_LOOP, learning_rate=3e-4,
                                 scheduled_sampling=scheduled)
     if profile == "paper":
         return MarionetTraining(MarionetConfig(**switches), LoopConfig(PAPER_STEPS, log_every=100,
@@ -128,13 +132,12 @@ def marionet_training(profile: str, **switches) -> MarionetTraining:
 
 def mann_training(profile: str) -> MannTraining:
     """MANN adapted (:class:`~jaxmotion.train.mann.MannTraining`) in ``profile``. smoke: :meth:`MannConfig.tiny`, 2
-    steps at batch 8; cpu: 4 experts of 256 units, Adam 3e-4 for 3 000 steps at batch 30 (MARIONET's cpu
+    steps at batch 8; cpu: 4 experts of 256 units, Adam 3e-4 for :data:`CPU_STEPS` at batch 30 (MARIONET's cpu
     schedule); paper: 8 experts of 512, Adam 1e-4, MARIONET's steps."""
     if profile == "smoke":
         return MannTraining(MannConfig.tiny(dropout=0.0), _SMOKE_LOOP, batch_size=8)
     if profile == "cpu":
-        return MannTraining(MannConfig(experts=4, hidden=256), LoopConfig(3000, log_every=100, checkpoint_every=500),
-                            learning_rate=3e-4)
+        return MannTraining(MannConfig(experts=4, hidden=256), CPU_LOOP, learning_rate=3e-4)
     if profile == "paper":
         return MannTraining(MannConfig(), LoopConfig(PAPER_STEPS, log_every=100, checkpoint_every=5000))
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
@@ -142,14 +145,14 @@ def mann_training(profile: str) -> MannTraining:
 
 def a2m_training(profile: str) -> A2MActionTraining:
     """Action2Motion adapted (:class:`~jaxmotion.train.a2m.A2MActionTraining`) in ``profile``. smoke: hidden 8,
-    2 steps at batch 8; cpu: its sizes for 3 000 steps at batch 30 (as MARIONET's cpu row: rows of one table see
-    the same data); paper: its recipe."""
+    2 steps at batch 8; cpu: its sizes for :data:`CPU_STEPS` at batch 30 (as MARIONET's cpu row: rows of one table
+    see the same data); paper: its recipe."""
     base = A2MActionTraining()
     if profile == "smoke":
         model = dataclasses.replace(base.model, hidden=8, latent=4, decoder_layers=1)
         return A2MActionTraining(model, _SMOKE_LOOP, batch_size=8)
     if profile == "cpu":
-        return A2MActionTraining(base.model, LoopConfig(3000, log_every=100, checkpoint_every=500), batch_size=30)
+        return A2MActionTraining(base.model, CPU_LOOP, batch_size=30)
     if profile == "paper":
         return base
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
@@ -157,13 +160,15 @@ def a2m_training(profile: str) -> A2MActionTraining:
 
 def actor_training(profile: str) -> ActorTraining:
     """ACTOR, the reference row, on synth-mag's actions (31 classes) in ``profile``, on ACTOR's 60-frame windows
-    (it generates each test action's own duration, 31 to 120 frames). smoke: 1 layer, 2 steps; cpu: d 64, 2 layers, 3 000 steps (ACTOR's cpu baseline); paper: the
-    paper's model, batch 20, 1 000 epochs."""
+    (it generates each test action's own duration, 31 to 120 frames). smoke: 1 layer, 2 steps; cpu: ACTOR's cpu
+    baseline (d 64, 2 layers, Adam 3e-4) for :data:`CPU_STEPS` at batch 30; paper: the paper's model, batch 20,
+    1 000 epochs."""
     if profile == "smoke":
         model = ActorConfig(num_classes=31, width=16, ff=32, layers=1, heads=2, dropout=0.0)
         return ActorTraining(model, _SMOKE_LOOP, batch_size=8)
     if profile == "cpu":
-        return dataclasses.replace(CPU_BASELINE, model=dataclasses.replace(CPU_BASELINE.model, num_classes=31))
+        return dataclasses.replace(CPU_BASELINE, model=dataclasses.replace(CPU_BASELINE.model, num_classes=31),
+                                   loop=CPU_LOOP, batch_size=30)
     if profile == "paper":
         return ActorTraining(ActorConfig(num_classes=31), LoopConfig(1000 * 6458 // 20, log_every=100,
                                                                      checkpoint_every=10_000))
