@@ -11,7 +11,9 @@ recogniser; the protocol's choices where the paper is silent are :mod:`jaxmotion
 
 Table: rows MARIONET, MANN, A2M, ACTOR, each followed by the paper's numbers ("(reported)"), and Real (the test
 actions: Acc, Div, Multi-mod; FID "/" as the paper). Columns FID, Acc (a fraction, as the paper prints it), Div,
-Multi-mod, ΔTraj (metres, over the actions that follow a path).
+Multi-mod, ΔTraj (metres, over the actions that follow a path). Pictures: ``figure5.png`` (eight generated actions
+with the paper's durations) and ``figure6.png`` (controllability: one action, Z sampled twice, another duration,
+another start, another tag), from MARIONET.
 
 What differs from the paper, and why:
 
@@ -38,6 +40,8 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
+from jaxmotion.pipelines.load import load_generator
+from jaxmotion.pipelines.pictures import marionette_pictures
 from jaxmotion.recipes.marionette import (ActionTable, ContextFreeRecipe, ContextRecipe, a2m_training, action_table,
                                           actor_training, mann_training, marionet_training, run_action_table)
 
@@ -79,6 +83,7 @@ class MarionetSingleConfig(experiment.ProfileConfig):
 def run(config: MarionetSingleConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                             eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+    marionette_pictures(load_generator(ctx.workdir, row="marionet"), ctx.key("pictures"), ctx.workdir)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

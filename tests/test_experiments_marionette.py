@@ -3,6 +3,7 @@ out; every trained row is a generator that loads and acts in one call."""
 
 import dataclasses
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from smoke_checks import assert_generations_vary, run_smoke
@@ -36,6 +37,9 @@ def test_single_action_table_scores_marionet_its_baselines_and_actor(tmp_path):
         walk = generator.action(0, "Walk", 20)
         assert walk.lengths.tolist() == [20] and np.isfinite(walk.joints).all()
     assert jaxmotion.load_generator(seed, row="actor").method == "actor"
+    for name in ("figure5.png", "figure6.png"):  # Figs. 5 and 6: a strip per action, drawn
+        picture = plt.imread(seed / name)
+        assert picture.shape[0] > 100 and picture[..., :3].std() > 0.01, name
 
 
 def test_single_action_rows_are_the_papers_methods():

@@ -119,6 +119,12 @@ def test_a_trained_generator_saves_loads_and_acts_in_one_call(generator, tmp_pat
     assert np.abs(given.translation[0] - translation[0, -1]).max() < 1.0  # it continues the given context
     motions = loaded.generate(0, [0, 24], [7, 5])
     assert motions.lengths.tolist() == [7, 5] and np.isfinite(motions.joints).all()
+    contexts = [(rotations[0], translation[0]), (rotations[1], translation[1])]
+    both = loaded.actions(2, ["Walk", "Kick"], [6, 9], contexts=contexts, mean=True)  # one generation, two rows
+    kick = loaded.action(3, "Kick", 9, context=contexts[1], mean=True)
+    np.testing.assert_allclose(both.joints[6:], kick.joints, atol=1e-5)
+    with pytest.raises(ValueError, match=r"durations: expected one per action \(2\), got 1"):
+        loaded.actions(2, ["Walk", "Kick"], [6])
 
 
 def test_one_call_generation_names_the_bad_field(generator):

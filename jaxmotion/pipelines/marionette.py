@@ -285,21 +285,6 @@ class ContextGenerator(SamplingGenerator):
             raise ValueError(f"{where}: expected at least one tag, got none")
         return vector
 
-    def _starts_for(self, key: jax.Array, labels: np.ndarray, durations: np.ndarray, frames: int
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """For each label a training start of that tag drawn with ``key``: context rotations, translation and the
-        path that followed it stretched to each duration ``[B, frames, 2]``."""
-        bank = self.starts
-        counts = bank.counts[labels]
-        if (counts == 0).any():
-            missing = self.class_names[int(labels[np.argmin(counts)])]
-            raise ValueError(f"tags: the training data held no action of {missing!r} to start from; give a context")
-        picks = np.asarray(jax.random.randint(key, labels.shape, 0, counts))
-        paths = np.zeros((len(labels), frames, 2), np.float32)
-        for b, (label, pick) in enumerate(zip(labels, picks)):
-            paths[b, :durations[b]] = _stretched(bank.paths[label, pick], bank.durations[label, pick], durations[b])
-        return bank.rotations[labels, picks], bank.translation[labels, picks], paths
-
     def action_sampler(self) -> Callable[..., dict[str, np.ndarray]]:
         """The single-action protocol's sampler (:mod:`jaxmotion.evaluation.actions`): each action under its own
         conditions; ``key=None``: the deterministic reading (Z = mu)."""
@@ -336,33 +321,74 @@ class ContextGenerator(SamplingGenerator):
         origin facing +Z), ``path`` (``[duration, 2]`` world ground points the root follows; None: for a
         root-motion tag without a context, the path that followed the start, stretched; else none), ``next_tags``
         (None: its own tags, as a take's last action). ``mean``: Z = mu. Returns a one-motion
-        :class:`~jaxmotion.data.motion.MotionDataset`."""
-        key = as_key(key)
-        vector = self.tag_vector(tags)
-        following = vector if next_tags is None else self.tag_vector(next_tags, "next_tags")
-        if not isinstance(duration, (int, np.integer)) or isinstance(duration, bool) or not 1 <= duration <= self.max_frames:
-            raise ValueError(f"duration: expected frames from 1 to {self.max_frames} (the longest action it trained "
-                             f"on), got {duration!r}")
-        k_start, k_z = jax.random.split(key)
-        if context is None:
-            label = np.array([int(np.argmax(vector))])
-            rotations, translation, start_path = self._starts_for(k_start, label, np.array([duration]), duration)
-        else:
-            rotations, translation = (np.asarray(a, np.float32)[None] for a in _context(context))
-            start_path = None
-        moves = bool((vector & self._root_tags()).any())
-        if path is not None:
-            path = np.asarray(path, np.float32)
-            if path.shape != (duration, 2) or not np.isfinite(path).all():
-                raise ValueError(f"path: expected [duration, 2] = ({duration}, 2) finite world ground points (x, z), "
-                                 f"one per frame, got shape {path.shape}")
-            paths, follow = path[None], True
-        else:
-            paths, follow = start_path, moves and start_path is not None
-        out = generate_actions(self.params, self.model, rotations, translation, vector[None], following[None],
-                               np.array([duration]), paths, np.array([follow]), None if mean else k_z,
-                               max_frames=self.max_frames)
-        return motion_records({**out, "actions": np.array([int(np.argmax(vector))])}, self.facts, self.method)
+        :class:`~jaxmotion.data.motion.MotionDataset` (:meth:`actions` for several in one call)."""
+        return self.actions(key, [tags], [duration], contexts=[context], paths=[path], next_tags=[next_tags],
+                            mean=mean)
+
+    def actions(self, key: jax.Array | int, tags: Sequence[str | int | Sequence[str | int]],
+                durations: Sequence[int], *, contexts: Sequence[tuple[np.ndarray, np.ndarray] | None] | None = None,
+                paths: Sequence[np.ndarray | None] | None = None,
+                next_tags: Sequence[str | int | Sequence[str | int] | None] | None = None,
+                mean: bool = False) -> MotionDataset:
+        """Several actions in one generation (one compilation): row n as :meth:`action` reads ``tags[n]``,
+        ``durations[n]``, ``contexts[n]``, ``paths[n]``, ``next_tags[n]`` (lists of the same length; None for a list:
+        None in every row). Every row draws its own Z (``mean``: Z = mu in all)."""
+        count = len(tags)
+        if count == 0:
+            raise ValueError("tags: expected at least one action, got none")
+        contexts, paths, next_tags = ([None] * count if x is None else list(x) for x in (contexts, paths, next_tags))
+        for name, values in (("durations", durations), ("contexts", contexts), ("paths", paths),
+                             ("next_tags", next_tags)):
+            if len(values) != count:
+                raise ValueError(f"{name}: expected one per action ({count}), got {len(values)}")
+        for duration in durations:
+            if (not isinstance(duration, (int, np.integer)) or isinstance(duration, bool)
+                    or not 1 <= duration <= self.max_frames):
+                raise ValueError(f"duration: expected frames from 1 to {self.max_frames} (the longest action it "
+                                 f"trained on), got {duration!r}")
+        vectors = np.stack([self.tag_vector(t) for t in tags])
+        following = np.stack([v if n is None else self.tag_vector(n, "next_tags") for v, n in zip(vectors, next_tags)])
+        lengths, frames = np.asarray(durations, np.int32), int(max(durations))
+        labels = np.argmax(vectors, axis=1).astype(np.int32)
+        k_start, k_z = jax.random.split(as_key(key))
+        rotations, translation, start_paths = self._starts_for(k_start, labels, lengths, frames,
+                                                               np.array([c is not None for c in contexts]))
+        given = np.zeros((count, frames, 2), np.float32)
+        follow = (vectors & self._root_tags()).any(axis=1)
+        for n, (context, path) in enumerate(zip(contexts, paths)):
+            if context is not None:
+                rotations[n], translation[n] = _context(context)
+                follow[n] &= path is not None  # a given context has no start path to follow
+            if path is not None:
+                path = np.asarray(path, np.float32)
+                if path.shape != (lengths[n], 2) or not np.isfinite(path).all():
+                    raise ValueError(f"path: expected [duration, 2] = ({lengths[n]}, 2) finite world ground points "
+                                     f"(x, z), one per frame, got shape {path.shape}")
+                given[n, :lengths[n]], follow[n] = path, True
+            else:
+                given[n] = start_paths[n]
+        out = generate_actions(self.params, self.model, rotations, translation, vectors, following, lengths, given,
+                               follow, None if mean else k_z, max_frames=self.max_frames)
+        return motion_records({**out, "actions": labels}, self.facts, self.method)
+
+    def _starts_for(self, key: jax.Array, labels: np.ndarray, durations: np.ndarray, frames: int,
+                    given: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """For each label a training start of that tag drawn with ``key``: context rotations, translation and the
+        path that followed it stretched to each duration ``[B, frames, 2]``. ``given [B]``: rows whose context the
+        caller gives (a tag without starts is an error elsewhere)."""
+        bank = self.starts
+        counts = bank.counts[labels]
+        missing = (counts == 0) & (True if given is None else ~given)
+        if missing.any():
+            name = self.class_names[int(labels[np.argmax(missing)])]
+            raise ValueError(f"tags: the training data held no action of {name!r} to start from; give a context")
+        picks = np.asarray(jax.random.randint(key, labels.shape, 0, np.maximum(counts, 1)))
+        paths = np.zeros((len(labels), frames, 2), np.float32)
+        for b, (label, pick) in enumerate(zip(labels, picks)):
+            if counts[b]:
+                paths[b, :durations[b]] = _stretched(bank.paths[label, pick], bank.durations[label, pick],
+                                                     durations[b])
+        return bank.rotations[labels, picks].copy(), bank.translation[labels, picks].copy(), paths
 
     def save(self, folder: str | Path) -> Path:
         return save_artefact(folder, self.method, self.model, self.facts,

@@ -1,4 +1,5 @@
-"""Pictures of generated motions from any method's sampler (ACTOR's Figure 5, ActFormer's Figure 5).
+"""Pictures of generated motions from any method's sampler (ACTOR's Figure 5, ActFormer's Figure 5), and Neural
+Marionette's Figures 5 and 6 from a trained context model (:func:`marionette_pictures`).
 
 A sampler is the evaluation protocol's ``(key, actions [N], durations [N]) -> motions`` callable
 (:data:`~jaxmotion.evaluation.protocol.Sampler`), so one function draws every generator's output, one person
@@ -7,13 +8,14 @@ or several.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
 import jax
 import numpy as np
 
-from jaxmotion.data.motion import MotionDataset, on_the_floor, to_dataset
+from jaxmotion.data.motion import MotionDataset, concatenate, on_the_floor, to_dataset
 from jaxmotion.data.preview import render_grid
 from jaxmotion.evaluation.protocol import Sampler
 from jaxmotion.geometry.skeletons import Skeleton
@@ -47,3 +49,48 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
                                    mode_names=(samples,) * len(class_names)))
     render_grid(data, actions, str(path), still=still)
     return data
+
+
+#: Neural Marionette's Figure 5: eight generated actions and their durations (seconds).
+FIGURE5 = (("Jump", 1.13), ("Crossing Limbs", 1.90), ("Stand Up", 2.47), ("Kick", 1.67),
+           ("Walk Upward/Downward", 1.33), ("Stretch", 2.70), ("Sit Down", 3.00), ("Move Something", 2.73))
+
+
+def marionette_pictures(generator, key: jax.Array, folder: str | Path) -> list[Path]:
+    """Neural Marionette's Figures 5 and 6 from a trained context model (:class:`~jaxmotion.pipelines.marionette.
+    ContextGenerator`), as PNG strips of key poses in ``folder``: ``figure5.png``, the eight actions of
+    :data:`FIGURE5` with the paper's durations (Z sampled; tags the training data never started are left out), and
+    ``figure6.png``, controllability: one action (Throw, Z = mu) beside Z sampled twice, a longer duration, another
+    start and another tag (Punch), each changing one thing. Two generations in all."""
+    folder = Path(folder)
+    names, starts, fps = generator.class_names, generator.starts.counts, generator.fps
+    started = [tag for tag in names if starts[names.index(tag)]]
+    base = "Throw" if "Throw" in started else max(started, key=lambda t: starts[names.index(t)])
+    other = "Punch" if base != "Punch" else "Kick"
+    b = names.index(base)
+    first = (generator.starts.rotations[b, 0], generator.starts.translation[b, 0])
+    alternative = next((c for c in range(len(names)) if starts[c] and c != b), b)
+    second = (generator.starts.rotations[alternative, starts[alternative] - 1],
+              generator.starts.translation[alternative, starts[alternative] - 1])
+    frames = min(60, generator.max_frames)
+    longer = min(int(1.5 * frames), generator.max_frames)
+    figure5 = [(tag, min(max(round(seconds * fps), 1), generator.max_frames)) for tag, seconds in FIGURE5
+               if tag in started]
+    k_sampled, k_mean = jax.random.split(key)
+    sampled = generator.actions(k_sampled, [t for t, _ in figure5] + [base, base],
+                                [d for _, d in figure5] + [frames, frames], contexts=[None] * len(figure5) + [first] * 2)
+    mean = generator.actions(k_mean, [base, base, base, other], [frames, longer, frames, frames],
+                             contexts=[first, first, second, first], mean=True)
+    labels5 = [f"{tag} {d / fps:.2f} s" for tag, d in figure5]
+    labels6 = [f"{base} (Z = mu)", f"{base}, Z sampled", f"{base}, Z sampled again", f"{base}, {longer} frames",
+               f"{base}, another start", f"{other} (another tag)"]
+    n5 = len(figure5)
+    paths = []
+    for name, motions, labels in (("figure5.png", sampled.subset(range(n5)), labels5),
+                                  ("figure6.png", concatenate([mean.subset([0]), sampled.subset([n5, n5 + 1]),
+                                                               mean.subset([1, 2, 3])], split="generated"), labels6)):
+        rows = dataclasses.replace(motions, class_names=tuple(labels), actions=np.arange(len(labels), dtype=np.int32),
+                                   modes=np.zeros(len(labels), np.int32), mode_names=())
+        render_grid(rows, range(len(labels)), str(folder / name), still=True)
+        paths.append(folder / name)
+    return paths
