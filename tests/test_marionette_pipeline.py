@@ -114,15 +114,15 @@ def test_a_trained_generator_saves_loads_and_acts_in_one_call(generator, tmp_pat
     assert len(walk) == 1 and walk.lengths.tolist() == [9] and walk.class_names[walk.actions[0]] == "Walk"
     np.testing.assert_array_equal(walk.joints, again.joints)
     rotations, translation, _, _ = _inputs(4)
-    path = np.cumsum(np.full((6, 2), 0.05, np.float32), axis=0)
-    given = loaded.action(1, "Walk", 6, context=(rotations[0], translation[0]), path=path, next_tags="Stand")
+    path = np.cumsum(np.full((9, 2), 0.05, np.float32), axis=0)  # 9 frames as above: one compilation
+    given = loaded.action(1, "Walk", 9, context=(rotations[0], translation[0]), path=path, next_tags="Stand")
     assert np.abs(given.translation[0] - translation[0, -1]).max() < 1.0  # it continues the given context
-    motions = loaded.generate(0, [0, 24], [7, 5])
-    assert motions.lengths.tolist() == [7, 5] and np.isfinite(motions.joints).all()
+    motions = loaded.generate(0, [0, 24], [9, 5])
+    assert motions.lengths.tolist() == [9, 5] and np.isfinite(motions.joints).all()
     contexts = [(rotations[0], translation[0]), (rotations[1], translation[1])]
-    both = loaded.actions(2, ["Walk", "Kick"], [6, 9], contexts=contexts, mean=True)  # one generation, two rows
+    both = loaded.actions(2, ["Walk", "Kick"], [5, 9], contexts=contexts, mean=True)  # one generation, two rows
     kick = loaded.action(3, "Kick", 9, context=contexts[1], mean=True)
-    np.testing.assert_allclose(both.joints[6:], kick.joints, atol=1e-5)
+    np.testing.assert_allclose(both.joints[5:], kick.joints, atol=1e-5)
     with pytest.raises(ValueError, match=r"durations: expected one per action \(2\), got 1"):
         loaded.actions(2, ["Walk", "Kick"], [6])
 
