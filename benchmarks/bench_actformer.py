@@ -105,7 +105,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import as_loop_runs, machine_header, time_loop_step, time_pair
+from benchmarks.timing import as_loop_runs, machine_header, print_table, time_loop_step, time_pair
 from jaxmotion.data.datasets import load_dataset
 from jaxmotion.data.pipeline import make_batch_fn
 from jaxmotion.models.actformer import GeneratorConfig, generate
@@ -408,21 +408,6 @@ def print_parity(rows) -> None:
         elif isinstance(p, tuple):
             print(f"* {name}: the first {PARITY_ROWS} clips through both generators, same latents, labels and "
                   f"vectors: max |Δ| = {p[0]:.1e}; raw root joint max |Δ| / max |root| = {p[1]:.1e}")
-    print()
-
-
-def print_table(rows) -> None:
-    print("| call | jaxmotion median ms | min-max ms | compile s | PyTorch median ms | min-max ms | speed-up "
-          "| target | met |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
-    for name, r, target in rows:
-        p = r["peer"]
-        speedup = None if p is None else p["median"] / r["median"]
-        cells = [name, f"{r['median']:.1f}", f"{r['min']:.1f}-{r['max']:.1f}", f"{r['compile_s']:.1f}",
-                 "-" if p is None else f"{p['median']:.1f}", "-" if p is None else f"{p['min']:.1f}-{p['max']:.1f}",
-                 "-" if p is None else f"{speedup:.2f}x", f"{target:g}x",
-                 "-" if p is None else ("yes" if speedup >= target else "no")]
-        print("| " + " | ".join(cells) + " |")
     print()
 
 

@@ -64,7 +64,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import as_loop_runs, machine_header, time_loop_step, time_pair  # noqa: E402
+from benchmarks.timing import as_loop_runs, machine_header, print_table, time_loop_step, time_pair  # noqa: E402
 from jaxmotion.data.mag_tags import KINDS, TAG_NAMES  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24  # noqa: E402
 from jaxmotion.models.marionet import CONTEXT, MarionetConfig, forward, generate, init_marionet  # noqa: E402
@@ -302,18 +302,7 @@ def main() -> None:
                                                                                              args.repeats),
                      TARGET_GENERATE))
 
-    print("| call | jaxmotion median ms | min-max ms | compile s | PyTorch median ms | min-max ms | speed-up "
-          "| target | met |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
-    for name, r, target in rows:
-        p = r["peer"]
-        speedup = None if p is None else p["median"] / r["median"]
-        cells = [name, f"{r['median']:.1f}", f"{r['min']:.1f}-{r['max']:.1f}", f"{r['compile_s']:.1f}",
-                 "-" if p is None else f"{p['median']:.1f}", "-" if p is None else f"{p['min']:.1f}-{p['max']:.1f}",
-                 "-" if p is None else f"{speedup:.2f}x", f"{target:g}x",
-                 "-" if p is None else ("yes" if speedup >= target else "no")]
-        print("| " + " | ".join(cells) + " |")
-    print()
+    print_table(rows)
     print(f"Load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     print("speed-up = PyTorch median / jaxmotion median. jaxmotion's step: train.marionet.marionet_step as the loop "
           "runs it (key fold_in(key, step), state donated); its generation: the cached models.marionet.generate, "

@@ -88,3 +88,19 @@ def time_loop_step(step_fn, state, batch, loop_key, theirs, repeats: int) -> dic
     if int(holder[0].step) != first + repeats + 1:  # warm-up + repeats steps, none skipped
         raise AssertionError(f"step count {int(holder[0].step)} after {repeats + 1} steps")
     return {**result, "peer": peer_result, "compile_s": compile_s}
+
+
+def print_table(rows) -> None:
+    """The side-by-side table: rows ``(name, result, target)``, a result as :func:`time_pair` gives it."""
+    print("| call | jaxmotion median ms | min-max ms | compile s | PyTorch median ms | min-max ms | speed-up "
+          "| target | met |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
+    for name, r, target in rows:
+        p = r["peer"]
+        speedup = None if p is None else p["median"] / r["median"]
+        cells = [name, f"{r['median']:.1f}", f"{r['min']:.1f}-{r['max']:.1f}", f"{r['compile_s']:.1f}",
+                 "-" if p is None else f"{p['median']:.1f}", "-" if p is None else f"{p['min']:.1f}-{p['max']:.1f}",
+                 "-" if p is None else f"{speedup:.2f}x", f"{target:g}x",
+                 "-" if p is None else ("yes" if speedup >= target else "no")]
+        print("| " + " | ".join(cells) + " |")
+    print()
