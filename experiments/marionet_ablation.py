@@ -30,7 +30,7 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
-from jaxmotion.recipes.marionette import ActionTable, ContextRecipe, action_table, marionet_training, run_action_table
+from jaxmotion.recipes.marionette import ActionTable, MarionetRecipe, action_table, marionet_training, run_action_table
 
 COLUMNS = ("FID", "Acc", "Div", "Multi-mod", "ΔJPE")
 # Table 2
@@ -68,12 +68,12 @@ CLAIMS = (
 @dataclasses.dataclass(frozen=True)
 class MarionetAblationConfig(experiment.ProfileConfig):
     table: ActionTable
-    rows: Mapping[str, ContextRecipe]
+    rows: Mapping[str, MarionetRecipe]
 
     @classmethod
     def for_profile(cls, profile: str) -> MarionetAblationConfig:
         return cls(action_table(profile, joint_error=True), FrozenMap({
-            name: ContextRecipe(marionet_training(profile, **switches)) for name, switches in VARIANTS.items()}))
+            name: MarionetRecipe(marionet_training(profile, **switches)) for name, switches in VARIANTS.items()}))
 
 
 def run(config: MarionetAblationConfig, ctx: experiment.RunContext):

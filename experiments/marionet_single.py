@@ -42,8 +42,9 @@ from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
 from jaxmotion.pipelines.load import load_generator
 from jaxmotion.pipelines.pictures import marionette_pictures
-from jaxmotion.recipes.marionette import (ActionTable, ContextFreeRecipe, ContextRecipe, a2m_training, action_table,
-                                          actor_training, mann_training, marionet_training, run_action_table)
+from jaxmotion.recipes.marionette import (A2MContextRecipe, ActionTable, ContextFreeRecipe, MannRecipe, MarionetRecipe,
+                                          a2m_training, action_table, actor_training, mann_training, marionet_training,
+                                          run_action_table)
 
 COLUMNS = ("FID", "Acc", "Div", "Multi-mod", "ΔTraj")
 # Table 1 (None: the paper prints "/")
@@ -71,13 +72,13 @@ CLAIMS = (
 @dataclasses.dataclass(frozen=True)
 class MarionetSingleConfig(experiment.ProfileConfig):
     table: ActionTable
-    rows: Mapping[str, ContextRecipe | ContextFreeRecipe]
+    rows: Mapping[str, MarionetRecipe | MannRecipe | A2MContextRecipe | ContextFreeRecipe]
 
     @classmethod
     def for_profile(cls, profile: str) -> MarionetSingleConfig:
         return cls(action_table(profile), FrozenMap({
-            "MARIONET": ContextRecipe(marionet_training(profile)), "MANN": ContextRecipe(mann_training(profile)),
-            "A2M": ContextRecipe(a2m_training(profile)), "ACTOR": ContextFreeRecipe(actor_training(profile))}))
+            "MARIONET": MarionetRecipe(marionet_training(profile)), "MANN": MannRecipe(mann_training(profile)),
+            "A2M": A2MContextRecipe(a2m_training(profile)), "ACTOR": ContextFreeRecipe(actor_training(profile))}))
 
 
 def run(config: MarionetSingleConfig, ctx: experiment.RunContext):

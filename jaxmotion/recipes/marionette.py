@@ -2,10 +2,9 @@
 Table 1 adapts: MANN, Action2Motion) and ACTOR, the context-free reference row, trained on synth-mag's actions and
 scored by the single-action protocol (:mod:`jaxmotion.evaluation.actions`).
 
-* :class:`ContextRecipe`: a trainer config of a context model (:class:`~jaxmotion.train.marionet.MarionetTraining`,
-  :class:`~jaxmotion.train.a2m.A2MActionTraining`, :class:`~jaxmotion.train.mann.MannTraining`) as a row: fit
-  trains it on the takes' action items and keeps a start bank of the training data; its generator is a
-  :class:`~jaxmotion.pipelines.marionette.ContextGenerator`.
+* :class:`MarionetRecipe`, :class:`MannRecipe`, :class:`A2MContextRecipe` (:class:`ContextRecipe`s): a context
+  model's trainer config as a row: fit trains it on the takes' action items and keeps a start bank of the training
+  data; its generator is a :class:`~jaxmotion.pipelines.marionette.ContextGenerator`.
 * :class:`ContextFreeRecipe`: ACTOR as a row: trained on the takes' actions (each labelled with its first tag),
   placed after each test action's context to be scored (:func:`~jaxmotion.pipelines.marionette.context_free_sampler`).
 * :func:`marionet_training`, :func:`mann_training`, :func:`a2m_training`, :func:`actor_training`: the smoke / cpu /
@@ -24,7 +23,8 @@ from typing import Any, NamedTuple
 import jax
 import numpy as np
 
-from jaxmotion.data.datasets import load_dataset
+from jaxmotion.config import check_at_least
+from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.actions import MARIONETTE_COLUMNS, ActionProtocol, action_set, evaluate_actions
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
@@ -57,17 +57,16 @@ class ContextFit(NamedTuple):
     starts: StartBank
 
 
-@dataclasses.dataclass(frozen=True)
 class ContextRecipe:
-    """A context model as a table row (module docstring)."""
+    """A context model as a table row (module docstring); a subclass is a frozen dataclass whose one field, named
+    after the model (so a config's row tells which recipe it is), is its trainer config."""
 
-    training: MarionetTraining | MannTraining | A2MActionTraining
+    @property
+    def training(self) -> MarionetTraining | MannTraining | A2MActionTraining:
+        return getattr(self, dataclasses.fields(self)[0].name)
 
     def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options
             ) -> ContextFit:
-        if type(self.training) not in TRAINERS:
-            raise TypeError(f"training: expected one of {', '.join(t.__name__ for t in TRAINERS)}, got "
-                            f"{type(self.training).__name__}")
         params = TRAINERS[type(self.training)](data, self.training, key, workdir, **loop_options)
         return ContextFit(params, start_bank(data, STARTS_PER_TAG))
 
@@ -77,17 +76,34 @@ class ContextRecipe:
 
 
 @dataclasses.dataclass(frozen=True)
+class MarionetRecipe(ContextRecipe):
+    marionet: MarionetTraining
+
+
+@dataclasses.dataclass(frozen=True)
+class MannRecipe(ContextRecipe):
+    mann: MannTraining
+
+
+@dataclasses.dataclass(frozen=True)
+class A2MContextRecipe(ContextRecipe):
+    """Action2Motion adapted (not :class:`~jaxmotion.recipes.a2m.A2MRecipe`, the original on class labels)."""
+
+    a2m: A2MActionTraining
+
+
+@dataclasses.dataclass(frozen=True)
 class ContextFreeRecipe:
     """ACTOR as Neural Marionette's reference row: trained on the takes' actions (each labelled with its first tag),
     generating for a label and a duration."""
 
-    training: ActorTraining
+    actor: ActorTraining
 
     def fit(self, data: MotionDataset, key: jax.Array, workdir: str | Path | None = None, **loop_options) -> Any:
-        return ActorRecipe(self.training).fit(data.action_items(context=0).data, key, workdir, **loop_options)
+        return ActorRecipe(self.actor).fit(data.action_items(context=0).data, key, workdir, **loop_options)
 
     def generator(self, trained: Any, facts: DataFacts):
-        return ActorRecipe(self.training).generator(trained, facts)
+        return ActorRecipe(self.actor).generator(trained, facts)
 
 
 def action_sampler_of(generator: Any):
@@ -190,6 +206,11 @@ class ActionTable:
     evaluator: RecognizerTraining
     protocol: ActionProtocol
 
+    def __post_init__(self):
+        check_dataset_name(self.dataset, "ActionTable.dataset")
+        check_at_least(self, 0, "seed")
+        check_at_least(self, 1, "count")
+
 
 def action_table(profile: str, *, joint_error: bool = False) -> ActionTable:
     """synth-mag with its evaluator (``synth-mag/transformer``) in ``profile``: smoke, 12 takes and 24 test actions
@@ -208,7 +229,7 @@ def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: st
                      eval_key: jax.Array, data_root: str | None = None, mesh=None) -> dict[str, dict[str, np.ndarray]]:
     """Train every row on the train split's actions (:func:`~jaxmotion.recipes.tables.fit_rows`, generators written
     beside their checkpoints) and score them together on the test split's (Neural Marionette's columns; the Real
-    row last). Rows: :class:`ContextRecipe`, :class:`ContextFreeRecipe`."""
+    row last). Rows: context recipes (:class:`ContextRecipe`) and :class:`ContextFreeRecipe`."""
     train = load_dataset(table.dataset, "train", seed=table.seed, data_root=data_root, count=table.count)
     test = load_dataset(table.dataset, "test", seed=table.seed, data_root=data_root, count=table.count)
     actions = action_set(test, max_frames=table.protocol.max_frames, count=table.protocol.count)
