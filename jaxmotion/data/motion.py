@@ -286,6 +286,12 @@ class ActionItems:
     def __len__(self) -> int:
         return len(self.durations)
 
+    def subset(self, indices: Sequence[int] | np.ndarray) -> ActionItems:
+        """The items at ``indices``, in that order."""
+        indices = np.asarray(indices)
+        return dataclasses.replace(self, data=self.data.subset(indices), tags=self.tags[indices],
+                                   next_tags=self.next_tags[indices], durations=self.durations[indices])
+
     def ground_paths(self) -> list[np.ndarray]:
         """Per action ``[T, 2]`` the root's ground-plane path (x, z) over its own frames (context excluded)."""
         data = self.data

@@ -302,14 +302,9 @@ class ContextGenerator(SamplingGenerator):
         start of that tag along the path that followed it, stretched to the duration."""
 
         def sample(key, actions, durations):
-            labels, durations = np.asarray(actions, np.int32), np.asarray(durations, np.int32)
-            tags = np.eye(len(self.class_names), dtype=bool)[labels]
-            k_start, k_z = jax.random.split(key)
-            frames = int(durations.max())
-            rotations, translation, paths = self._starts_for(k_start, labels, durations, frames)
-            out = generate_actions(self.params, self.model, rotations, translation, tags, tags, durations, paths,
-                                   (tags & self._root_tags()).any(axis=1), k_z, max_frames=self.max_frames)
-            return {**out, "actions": labels}
+            tags = np.eye(len(self.class_names), dtype=bool)[np.asarray(actions, np.int32)]
+            none = [None] * len(tags)
+            return self._rows(key, tags, tags, np.asarray(durations, np.int32), none, none, mean=False)
 
         return sample
 
@@ -348,9 +343,16 @@ class ContextGenerator(SamplingGenerator):
                                  f"trained on), got {duration!r}")
         vectors = np.stack([self.tag_vector(t) for t in tags])
         following = np.stack([v if n is None else self.tag_vector(n, "next_tags") for v, n in zip(vectors, next_tags)])
-        lengths, frames = np.asarray(durations, np.int32), int(max(durations))
+        rows = self._rows(as_key(key), vectors, following, np.asarray(durations, np.int32), contexts, paths, mean=mean)
+        return motion_records(rows, self.facts, self.method)
+
+    def _rows(self, key: jax.Array, vectors: np.ndarray, following: np.ndarray, lengths: np.ndarray,
+              contexts: Sequence[Any], paths: Sequence[Any], *, mean: bool) -> dict[str, np.ndarray]:
+        """The batch dict of actions with tags ``vectors``, next tags ``following [B, C]`` and ``lengths [B]``, each
+        from its given context and path or else a training start of its first tag and the path that followed it."""
+        count, frames = len(lengths), int(lengths.max())
         labels = np.argmax(vectors, axis=1).astype(np.int32)
-        k_start, k_z = jax.random.split(as_key(key))
+        k_start, k_z = jax.random.split(key)
         rotations, translation, start_paths = self._starts_for(k_start, labels, lengths, frames,
                                                                np.array([c is not None for c in contexts]))
         given = np.zeros((count, frames, 2), np.float32)
@@ -369,7 +371,7 @@ class ContextGenerator(SamplingGenerator):
                 given[n] = start_paths[n]
         out = generate_actions(self.params, self.model, rotations, translation, vectors, following, lengths, given,
                                follow, None if mean else k_z, max_frames=self.max_frames)
-        return motion_records({**out, "actions": labels}, self.facts, self.method)
+        return {**out, "actions": labels}
 
     def _starts_for(self, key: jax.Array, labels: np.ndarray, durations: np.ndarray, frames: int,
                     given: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -142,8 +142,7 @@ def fit_action_items(data: MotionDataset, key: jax.Array, *, num_tags: int, batc
     if not len(keep):
         raise ValueError(f"data: no action of {data.name}/{data.split} has context frames and at most "
                          f"{max_frames} frames")
-    items = dataclasses.replace(items, data=items.data.subset(keep), tags=items.tags[keep],
-                                next_tags=items.next_tags[keep], durations=items.durations[keep])
+    items = items.subset(keep)
     spec, labels = action_item_batches(items, batch_size)
     return fit(items.data, key, init_state=init_state, step_fn=step_fn, batch=spec, labels=labels, loop=loop,
                workdir=workdir, progress=progress, **loop_options)
