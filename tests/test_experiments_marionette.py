@@ -67,13 +67,20 @@ def test_ablation_rows_switch_off_what_their_names_say():
 
 @pytest.mark.smoke
 def test_ablation_table_measures_the_joint_error_with_z_at_mu(tmp_path, monkeypatch):
-    # The full row alone (its program compiled by the Table 1 smoke): each other row is a MARIONET compile of its own
-    # (about 20 s here); what their switches do is tested above and in tests/test_marionet.py
+    # The full row (its program compiled by the Table 1 smoke) and the one without scheduled sampling, the trainer's
+    # other code path: each other row is a MARIONET compile of its own (about 20 s here); what their switches do is
+    # tested above and in tests/test_marionet.py
     smoke = marionet_ablation.MarionetAblationConfig.smoke()
+    measured = ("MARIONET", "w/o Schedule Sampling")
     monkeypatch.setattr(marionet_ablation.MarionetAblationConfig, "smoke", classmethod(
-        lambda cls: dataclasses.replace(smoke, rows=FrozenMap({"MARIONET": smoke.rows["MARIONET"]}))))
+        lambda cls: dataclasses.replace(smoke, rows=FrozenMap({name: smoke.rows[name] for name in measured}))))
     rows = run_smoke(marionet_ablation, tmp_path)["rows"]
-    assert list(rows) == ["MARIONET", *(f"{name} (reported)" for name in marionet_ablation.VARIANTS), "Real"]
-    _assert_scored(rows, "MARIONET", marionet_ablation.COLUMNS)
+    assert list(rows) == ["MARIONET", "MARIONET (reported)", "w/o Schedule Sampling",
+                          *(f"{name} (reported)" for name in marionet_ablation.VARIANTS if name != "MARIONET"), "Real"]
+    for name in measured:
+        _assert_scored(rows, name, marionet_ablation.COLUMNS)
     assert rows["MARIONET"]["ΔJPE"]["n"] == 1 and rows["MARIONET"]["ΔJPE"]["mean"] > 0  # Z = mu: one value, in cm
+    # Two steps of an untrained model never pass the gate, so the full row trains by teacher forcing alone too: the
+    # same parameters, and with Z = mu the same actions
+    assert rows["w/o Schedule Sampling"]["ΔJPE"] == rows["MARIONET"]["ΔJPE"]
     assert rows["w/o TU (reported)"]["ΔJPE"] == 9.42

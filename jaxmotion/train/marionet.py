@@ -10,10 +10,11 @@ root-motion tag, zeros for the others (as the paper feeds in-place actions).
 decoder (the same Z and controls) reads, at each frame after the first, the predicted pose of P' with probability
 xi and the true one otherwise; xi rises linearly from 0 to 1 between the ``activate`` and ``accomplish`` fractions
 of training (the paper's epochs 250 and 750 of 1,000). While it is on, the passes weigh lambda_1 = 0.1 and
-lambda_2 = 0.9, else 1 and 0. Where the paper is silent: frames are mixed independently (one Bernoulli draw each);
-the predicted poses enter the second pass without gradient; the "close enough" gate turns the second pass on for
-a batch only while the first pass's squared error (over real frames and numbers, as the loss's rotation term) is
-below ``gate`` (:class:`MarionetTraining`).
+lambda_2 = 0.9, else 1 and 0 (``scheduled_sampling=False``, Table 2's ablation, runs no second pass: it would weigh
+0). Where the paper is silent: frames are mixed independently (one Bernoulli draw each); the predicted poses enter
+the second pass without gradient; the "close enough" gate turns the second pass on for a batch only while the first
+pass's squared error (over real frames and numbers, as the loss's rotation term) is below ``gate``
+(:class:`MarionetTraining`).
 """
 
 from __future__ import annotations
@@ -103,11 +104,15 @@ def marionet_step(training: MarionetTraining, root_tags: np.ndarray):
         x = marionet_inputs(batch, root_tags)
         k_first, k_mix, k_second = jax.random.split(key, 3)
         share = sampling_share(training, state.step)
-        on = training.scheduled_sampling & (state.step >= training.activate * training.loop.steps)
+        on = state.step >= training.activate * training.loop.steps
 
         def loss_fn(params: MarionetParams):
             first = forward(params, config, x["context"], x["tags"], x["next_tags"], x["path"], x["target"],
                             x["mask"], k_first)
+            if not training.scheduled_sampling:  # teacher forcing alone: no second pass to run
+                loss, terms = marionet_loss(first.poses, None, x["target"], x["mask"], first.mu, first.log_variance,
+                                            weights=training.losses, skeleton=SMPL24)
+                return loss, terms
             close = jax.lax.stop_gradient(masked_mse(first.poses, x["target"], x["mask"])) < training.gate
             use = on & close
             predicted = jax.lax.stop_gradient(first.poses[:, :-1])
