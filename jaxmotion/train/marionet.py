@@ -110,9 +110,8 @@ def marionet_step(training: MarionetTraining, root_tags: np.ndarray):
             first = forward(params, config, x["context"], x["tags"], x["next_tags"], x["path"], x["target"],
                             x["mask"], k_first)
             if not training.scheduled_sampling:  # teacher forcing alone: no second pass to run
-                loss, terms = marionet_loss(first.poses, None, x["target"], x["mask"], first.mu, first.log_variance,
-                                            weights=training.losses, skeleton=SMPL24)
-                return loss, terms
+                return marionet_loss(first.poses, None, x["target"], x["mask"], first.mu, first.log_variance,
+                                     weights=training.losses, skeleton=SMPL24)
             close = jax.lax.stop_gradient(masked_mse(first.poses, x["target"], x["mask"])) < training.gate
             use = on & close
             predicted = jax.lax.stop_gradient(first.poses[:, :-1])
