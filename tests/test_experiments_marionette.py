@@ -62,6 +62,8 @@ def test_ablation_rows_switch_off_what_their_names_say():
             scheduled_sampling=switches.get("scheduled_sampling", True))
         assert training == expected, name
     assert rows["w/o TU and w/o TI"].training.model.time_unrolling is False
+    # tag injection acts on the unrolling's queries only: without unrolling the two rows are one fit
+    assert rows["w/o TU"].fit_key == rows["w/o TU and w/o TI"].fit_key != rows["w/o TI"].fit_key
     assert rows["w/o Schedule Sampling"].training.scheduled_sampling is False
 
 

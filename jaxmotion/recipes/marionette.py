@@ -79,6 +79,15 @@ class ContextRecipe:
 class MarionetRecipe(ContextRecipe):
     marionet: MarionetTraining
 
+    @property
+    def fit_key(self) -> MarionetTraining:
+        """What determines the fit: without time unrolling, tag injection (which acts on the unrolling's queries
+        only) does not, so Table 2's "w/o TU" and "w/o TU and w/o TI" train once."""
+        model = self.marionet.model
+        if model.time_unrolling:
+            return self.marionet
+        return dataclasses.replace(self.marionet, model=dataclasses.replace(model, tag_injection=False))
+
 
 @dataclasses.dataclass(frozen=True)
 class MannRecipe(ContextRecipe):
