@@ -65,7 +65,8 @@ SMOKE_ROWS = {"actformer_ablation_single": ("(1) Gaussian latent prior", "(4) Fu
 
 @pytest.mark.smoke
 @pytest.mark.parametrize("name", list(SMOKE_ROWS))
-def test_ablation_tables_measure_the_full_model_and_each_kind_of_switch_and_report_every_row(name, tmp_path, monkeypatch):
+def test_ablation_tables_measure_the_full_model_and_each_kind_of_switch_and_report_every_row(name, tmp_path,
+                                                                                          monkeypatch):
     module = importlib.import_module(f"experiments.{name}")
     config_class = module.__dict__[next(k for k in module.__dict__ if k.endswith("Config"))]
     if SMOKE_ROWS[name] is not None:

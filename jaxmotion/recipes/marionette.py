@@ -235,7 +235,8 @@ def action_table(profile: str, *, joint_error: bool = False) -> ActionTable:
     repetitions = {"cpu": 5, "paper": 10}.get(profile)
     if repetitions is None:
         raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
-    return ActionTable("synth-mag", 0, None, evaluator, ActionProtocol(repetitions=repetitions, joint_error=joint_error))
+    return ActionTable("synth-mag", 0, None, evaluator,
+                       ActionProtocol(repetitions=repetitions, joint_error=joint_error))
 
 
 def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: str | Path, train_key: jax.Array,
