@@ -1,7 +1,9 @@
-"""Neural Marionette's single-action tables run end to end in their smoke profiles, laid out as the paper lays them
-out; every trained row is a generator that loads and acts in one call."""
+"""Neural Marionette's tables run end to end in their smoke profiles, laid out as the paper lays them out; every
+trained row is a generator that loads and acts in one call; the multi-action table chains the rows Table 1 trained."""
 
 import dataclasses
+import json
+import shutil
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -9,9 +11,10 @@ import pytest
 from smoke_checks import assert_generations_vary, run_smoke
 
 import jaxmotion
-from experiments import marionet_ablation, marionet_single
+from experiments import marionet_ablation, marionet_multi, marionet_single
 from jaxmotion.config import FrozenMap
 from jaxmotion.recipes.marionette import ContextFreeRecipe, ContextRecipe
+from jaxmotion.evaluation.tables import slug
 
 
 def _assert_scored(rows, row, columns):
@@ -39,6 +42,29 @@ def test_single_action_table_scores_marionet_its_baselines_and_actor(tmp_path):
     for name in ("figure5.png", "figure6.png"):  # Figs. 5 and 6: a strip per action, drawn
         picture = plt.imread(seed / name)
         assert picture.shape[0] > 100 and picture[..., :3].std() > 0.01, name
+    _multi_action_table_chains_the_rows_table_1_trained(tmp_path, seed)
+
+
+def _multi_action_table_chains_the_rows_table_1_trained(tmp_path, single):
+    """Table 3 trains its rows as Table 1 does (same recipes, same key): Table 1's finished checkpoints, copied into
+    its run folder, are resumed as they are (and save this smoke three trainings)."""
+    multi = tmp_path / "marionet_multi" / "smoke" / "seed-0"
+    for row in ("marionet", "mann", "a2m"):
+        shutil.copytree(single / row / "checkpoints", multi / row / "checkpoints")
+    rows = run_smoke(marionet_multi, tmp_path)["rows"]
+    assert list(rows) == [r for name in marionet_multi.ROWS for r in (name, f"{name} (reported)")]
+    columns = [f"{c} ({s})" for s in "OS" for c in ("Acc", "FID", "Δpose", "Δvel", "Action QR", "Motion QR", "PJ",
+                                                    "AUJ", "Trans. FID")]
+    for name in marionet_multi.ROWS:
+        _assert_scored(rows, name, columns)
+        assert rows[name]["Δpose (O)"]["mean"] > 0 and rows[name]["PJ (S)"]["mean"] > 0
+        assert not (multi / slug(name) / "metrics.jsonl").exists()  # resumed at its last step: nothing trained
+    assert rows["MARIONET (reported)"]["Acc (S)"] == 0.862 and "PJ (O)" not in rows["MARIONET (reported)"]
+    curves = json.loads((multi / "curves.json").read_text())
+    assert set(curves) == {"Acc", "FID", "Action QR", "Motion QR"}
+    assert all(len(values) == 4 for values in curves["Acc"].values()) and len(curves["Acc"]) == 6  # 3 rows x 2 sets
+    picture = plt.imread(multi / "figure8.png")
+    assert picture.shape[1] > 3 * picture.shape[0] and picture[..., :3].std() > 0.01
 
 
 def test_single_action_rows_are_the_papers_methods():

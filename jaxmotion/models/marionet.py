@@ -167,7 +167,8 @@ def _embed_tags(params: MarionetParams, tags: jax.Array) -> jax.Array:
     return jax.nn.relu(linear(params.tag_embedding, tags.astype(jnp.float32)))
 
 
-def _embed_poses(params: MarionetParams, poses: jax.Array) -> jax.Array:
+def embed_poses(params: MarionetParams, poses: jax.Array) -> jax.Array:
+    """The pose embedding shared by the encoder and the decoder: ``[..., 135] -> [..., d]`` (non-negative: ReLU)."""
     return jax.nn.relu(linear(params.pose_embedding, poses))
 
 
@@ -177,7 +178,7 @@ def encode(params: MarionetParams, config: MarionetConfig, context: jax.Array, t
     dropout with a ``key`` (training)."""
     if not config.next_tag:
         next_tags = jnp.zeros_like(next_tags)
-    tokens = jnp.concatenate([_embed_poses(params, context), _embed_tags(params, tags)[:, None],
+    tokens = jnp.concatenate([embed_poses(params, context), _embed_tags(params, tags)[:, None],
                               _embed_tags(params, next_tags)[:, None]], axis=1)  # [B, K + 2, d]
     tokens = tokens + sinusoidal_encoding(jnp.arange(tokens.shape[1]), config.width)
     k_in, k_layers = split_key(key, 2)
@@ -214,7 +215,12 @@ def controls(params: MarionetParams, config: MarionetConfig, z: jax.Array, tags:
 def _decoder_input(params: MarionetParams, config: MarionetConfig, previous: jax.Array,
                    positions: jax.Array) -> jax.Array:
     """``previous [..., 135]`` poses at ``positions`` -> the decoder's tokens ``[..., d]``."""
-    return _embed_poses(params, previous) + sinusoidal_encoding(positions, config.width)
+    return _decoder_token(config, embed_poses(params, previous), positions)
+
+
+def _decoder_token(config: MarionetConfig, embedded: jax.Array, positions: jax.Array) -> jax.Array:
+    """Embedded previous poses ``[..., d]`` at ``positions`` -> the decoder's tokens ``[..., d]``."""
+    return embedded + sinusoidal_encoding(positions, config.width)
 
 
 def decode(params: MarionetParams, config: MarionetConfig, frame_controls: jax.Array, previous: jax.Array,
@@ -257,10 +263,15 @@ def forward(params: MarionetParams, config: MarionetConfig, context: jax.Array, 
 
 
 def generate(params: MarionetParams, config: MarionetConfig, context: jax.Array, tags: jax.Array,
-             next_tags: jax.Array, path: jax.Array, mask: jax.Array, key: jax.Array | None = None) -> jax.Array:
+             next_tags: jax.Array, path: jax.Array, mask: jax.Array, key: jax.Array | None = None,
+             start: jax.Array | None = None) -> jax.Array:
     """Frame by frame on its own poses (eval mode), through the decoder's key/value cache: ``mask [B, T]`` gives
     each action's duration (its first frames); ``key`` samples Z (None: Z = mu) -> poses ``[B, T, 135]``, zero on
-    padding. Equals :func:`decode` run on the poses it produced (``tests/test_marionet.py``)."""
+    padding. Equals :func:`decode` run on the poses it produced (``tests/test_marionet.py``).
+
+    ``start [B, d]``: the decoder's first input in place of the embedded last context pose (Shadow Start, §4.3.2:
+    the start pose's embedding replaced, the condition encoder still reading the context as it is);
+    :func:`embed_poses` of ``context[:, -1]`` gives the same action as None."""
     mu, log_variance = encode(params, config, context, tags, next_tags)
     z = mu if key is None else sample_z(key, mu, log_variance)
     frame_controls = controls(params, config, z, tags, path, mask)
@@ -271,8 +282,11 @@ def generate(params: MarionetParams, config: MarionetConfig, context: jax.Array,
 
     def step(carry, t):
         cache, previous = carry  # previous [B, 135]
-        out, cache = decoder_stack_step(params.decoder, cache, _decoder_input(params, config, previous, t[None]),
-                                        t, options)
+        embedded = embed_poses(params, previous)
+        if start is not None:
+            embedded = jnp.where(t == 0, start, embedded)
+        out, cache = decoder_stack_step(params.decoder, cache, _decoder_token(config, embedded, t[None]), t,
+                                        options)
         pose = jnp.where(mask[:, t, None], linear(params.pose_head, out), 0.0)
         return (cache, pose), pose
 

@@ -21,7 +21,6 @@ Axes: B actions, K context frames, T frames (the longest duration), C tags, M st
 from __future__ import annotations
 
 import dataclasses
-import functools
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
@@ -75,21 +74,34 @@ def num_tags(config: Any) -> int:
     return config.num_tags if hasattr(config, "num_tags") else config.num_classes
 
 
-@functools.partial(jax.jit, static_argnames="config")
-def _generate(params: Any, config: Any, rotations: jax.Array, translation: jax.Array,
-              tags: jax.Array, next_tags: jax.Array, paths: jax.Array, follow: jax.Array, mask: jax.Array,
-              key: jax.Array | None) -> dict[str, jax.Array]:
+def continue_in_world(params: Any, config: Any, rotations: jax.Array, translation: jax.Array, tags: jax.Array,
+                      next_tags: jax.Array, paths: jax.Array, follow: jax.Array, mask: jax.Array,
+                      key: jax.Array | None, *, local_paths: bool = False,
+                      start: Callable[[jax.Array], jax.Array] | None = None) -> dict[str, jax.Array]:
+    """:func:`generate_actions` traceable, on arrays it has checked: context ``rotations [B, K, 24, 3]``,
+    ``translation [B, K, 3]`` in the world frame, ``paths [B, T, 2]`` world ground points (``local_paths``: already
+    in the frame of the context's last pose, normalised) -> world ``rotations``, ``translation``, ``joints``, zero
+    past each action's end. ``start``: MARIONET's first decoder input from the normalised begin pose ``[B, 135] ->
+    [B, d]`` (Shadow Start: :mod:`jaxmotion.pipelines.multi_action`)."""
     context, turn, shift = marionet.normalised_poses(rotations, translation, -1)
-    ground = jnp.stack([paths[..., 0], jnp.zeros_like(paths[..., 0]), paths[..., 1]], axis=-1)  # [B, T, 3]
-    local_paths = apply_transform(turn, shift, ground)[..., jnp.array([0, 2])]
-    local_paths = jnp.where((mask & follow[:, None])[..., None], local_paths, 0.0)  # no path: zeros, as in training
-    poses = context_model(config).continue_(params, config, context, tags, next_tags, local_paths, mask, key)
+    if not local_paths:
+        ground = jnp.stack([paths[..., 0], jnp.zeros_like(paths[..., 0]), paths[..., 1]], axis=-1)  # [B, T, 3]
+        paths = apply_transform(turn, shift, ground)[..., jnp.array([0, 2])]
+    paths = jnp.where((mask & follow[:, None])[..., None], paths, 0.0)  # no path: zeros, as in training
+    if start is None:
+        poses = context_model(config).continue_(params, config, context, tags, next_tags, paths, mask, key)
+    else:
+        poses = marionet.generate(params, config, context, tags, next_tags, paths, mask, key,
+                                  start=start(context[:, -1]))
     out_rotations, out_translation = transform_motion(*inverse_transform(turn, shift), *from_pose135(poses))
     joints = forward_kinematics(axis_angle_to_matrix(out_rotations), out_translation, SMPL24.offsets, SMPL24.parents,
                                 check=False)
     keep = mask[..., None]
     return {"rotations": jnp.where(keep[..., None], out_rotations, 0.0), "translation": jnp.where(keep, out_translation,
             0.0), "joints": jnp.where(keep[..., None], joints, 0.0)}
+
+
+_generate = jax.jit(continue_in_world, static_argnames=("config", "local_paths", "start"))
 
 
 def generate_actions(params: Any, config: Any, context_rotations: np.ndarray, context_translation: np.ndarray,
@@ -201,19 +213,27 @@ def context_free_sampler(sampler: Callable[..., Mapping[str, Any]]) -> Callable[
 class StartBank(NamedTuple):
     """Training starts per tag, in the normalised frame of their last context pose: ``rotations [C, M, K, 24, 3]``,
     ``translation [C, M, K, 3]``, the ground path that followed each ``paths [C, M, T, 2]`` over its ``durations
-    [C, M]`` frames, and ``counts [C]`` (starts held per tag; rows past it are zero)."""
+    [C, M]`` frames, and ``counts [C]`` (starts held per tag; rows past it are zero). For Shadow Start, the begin
+    pose (BOP: the last context pose, normalised) of every training action ``bops [N, 135]`` and its first tag
+    ``bop_labels [N]``."""
 
     rotations: np.ndarray
     translation: np.ndarray
     paths: np.ndarray
     durations: np.ndarray
     counts: np.ndarray
+    bops: np.ndarray
+    bop_labels: np.ndarray
 
 
 def start_bank(data: MotionDataset, per_tag: int = 8) -> StartBank:
     """The first ``per_tag`` actions of each tag (their first tag) of a multi-action ``data``, as :class:`StartBank`:
-    what a trained generator starts from when no context is given (paths are stretched to the duration asked)."""
+    what a trained generator starts from when no context is given (paths are stretched to the duration asked), and
+    every action's begin pose for Shadow Start."""
     items = data.action_items(CONTEXT)
+    last_context = items.data.starts[:-1, None] + np.arange(CONTEXT)
+    bops = marionet.normalised_poses(jnp.asarray(items.data.rotations[last_context]),
+                                     jnp.asarray(items.data.translation[last_context]), -1)[0][:, -1]
     labels = items.data.actions
     chosen = [np.flatnonzero(labels == c)[:per_tag] for c in range(data.num_classes)]
     counts = np.array([len(rows) for rows in chosen], np.int32)
@@ -231,7 +251,7 @@ def start_bank(data: MotionDataset, per_tag: int = 8) -> StartBank:
     return StartBank(np.where(used[..., None], rotations[:, :, :CONTEXT], 0.0).astype(np.float32),
                      np.where(used, translation[:, :, :CONTEXT], 0.0).astype(np.float32),
                      np.where(ahead[..., None], translation[:, :, CONTEXT:, [0, 2]], 0.0).astype(np.float32),
-                     durations, counts)
+                     durations, counts, np.asarray(bops, np.float32), items.data.actions.astype(np.int32))
 
 
 @jax.jit

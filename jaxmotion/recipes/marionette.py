@@ -10,11 +10,16 @@ scored by the single-action protocol (:mod:`jaxmotion.evaluation.actions`).
 * :func:`marionet_training`, :func:`mann_training`, :func:`a2m_training`, :func:`actor_training`: the smoke / cpu /
   paper sizes; :func:`action_table` the data, evaluator and protocol per profile; :func:`run_action_table` trains
   a table's rows (:func:`~jaxmotion.recipes.tables.fit_rows`) and scores them together.
+* :class:`ChainRow`, :func:`program_table`, :func:`run_program_table`: the multi-action tables (3-5): a context
+  model chained (:mod:`jaxmotion.pipelines.multi_action`) on the overall and sufficient test programs
+  (:mod:`jaxmotion.evaluation.multi_action`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+import json
 from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
@@ -27,6 +32,8 @@ from jaxmotion.config import check_at_least
 from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.actions import MARIONETTE_COLUMNS, ActionProtocol, action_set, evaluate_actions
+from jaxmotion.evaluation.multi_action import (MULTI_ACTION_COLUMNS, MultiActionProtocol, candidate_actions,
+                                               evaluate_programs, label_transitions, test_programs)
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
 from jaxmotion.evaluation.tables import paper_columns
 from jaxmotion.models.actor import ActorConfig
@@ -34,6 +41,7 @@ from jaxmotion.models.mann import MannConfig
 from jaxmotion.models.marionet import MarionetConfig
 from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.pipelines.marionette import ContextGenerator, StartBank, context_free_sampler, start_bank
+from jaxmotion.pipelines.multi_action import ChainOptions, chain_actions, joined
 from jaxmotion.recipes.actor import CPU_BASELINE, ActorRecipe
 from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.recipes.tables import fit_rows
@@ -42,6 +50,7 @@ from jaxmotion.train.actor import ActorTraining
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.mann import MannTraining, train_mann
 from jaxmotion.train.marionet import MarionetTraining, train_marionet
+from jaxmotion.viz import save_curves
 
 #: A context model's trainer config -> its training function.
 TRAINERS = MappingProxyType({MarionetTraining: train_marionet, MannTraining: train_mann,
@@ -253,3 +262,96 @@ def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: st
     scored = evaluate_actions(eval_key, samplers, recognizer, actions, table.protocol)
     return paper_columns({**{name: scored[name] for name in samplers}, "Real": scored["Real"]}, MARIONETTE_COLUMNS,
                          percent=frozenset())  # the paper prints accuracy as a fraction
+
+
+# --- multi-action tables ---------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class ChainRow:
+    """A row of the multi-action tables: a context model's recipe and how its chain corrects itself (Table 5's
+    rows differ by ``options`` alone and train once)."""
+
+    recipe: MarionetRecipe | MannRecipe | A2MContextRecipe
+    options: ChainOptions = ChainOptions()
+
+
+@dataclasses.dataclass(frozen=True)
+class ProgramTable:
+    """Where the multi-action tables train and are scored: ``single`` (the single-action tables' data and evaluator:
+    the rows train exactly as there, so their fits are shared), the test ``sets`` (``"overall"``, ``"sufficient"``),
+    the ``protocol`` and the revision classifier (``reviser``, trained apart from the evaluator; None: the
+    evaluator itself, the paper's possible reading)."""
+
+    single: ActionTable
+    sets: tuple[str, ...]
+    protocol: MultiActionProtocol
+    reviser: RecognizerTraining | None
+
+    def __post_init__(self):
+        if not self.sets or any(s not in ("overall", "sufficient") for s in self.sets):
+            raise ValueError(f"ProgramTable.sets: expected one or more of 'overall', 'sufficient', got {self.sets}")
+
+
+#: Column labels of the two test sets, as the paper's Table 3.
+SET_LABELS = MappingProxyType({"overall": "O", "sufficient": "S"})
+
+
+def program_table(profile: str, sets: tuple[str, ...] = ("overall", "sufficient")) -> ProgramTable:
+    """synth-mag with its evaluator and a revision classifier (``synth-mag/transformer-seed1``: the same recipe,
+    another seed) in ``profile``: smoke, 4 programs of 4 actions; cpu, 200 programs of 20 actions per set over 3
+    repetitions; paper, one program per candidate (the paper's 764 on BABEL-MAG) over 3. The smoke's evaluator, a
+    few steps trained, is confident of few actions: every test action is a candidate."""
+    single = action_table(profile)
+    reviser = evaluator_spec("synth-mag/transformer-seed1", profile)
+    if profile == "smoke":
+        protocol = MultiActionProtocol(actions=4, confidence=0.0, count=4, repetitions=1, chunk=4, window=10)
+    elif profile in ("cpu", "paper"):
+        protocol = MultiActionProtocol(count=200 if profile == "cpu" else None, repetitions=3)
+    else:
+        raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
+    return ProgramTable(single, tuple(sets), protocol, reviser)
+
+
+def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, workdir: str | Path, train_key: jax.Array,
+                      eval_key: jax.Array, data_root: str | None = None, mesh=None
+                      ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, dict[str, np.ndarray]]]]:
+    """Train every row's recipe (:func:`~jaxmotion.recipes.tables.fit_rows`: rows that differ by their chain options
+    train once) and score the chains on each test set. Returns the table (columns ``"<metric> (O)"``, ``"<metric>
+    (S)"``: Acc, FID, Δpose, Δvel, then Action QR, Motion QR, PJ, AUJ, Trans. FID) and the curves per set and
+    row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
+    single = table.single
+    train = load_dataset(single.dataset, "train", seed=single.seed, data_root=data_root, count=single.count)
+    test = load_dataset(single.dataset, "test", seed=single.seed, data_root=data_root, count=single.count)
+    actions = action_set(test, max_frames=single.protocol.max_frames)
+    recognizer, _ = trained_recognizer(single.evaluator, data_root=data_root)
+    revising = any(row.options.shadow_start == "revision" for row in rows.values())
+    reviser = None
+    if revising:
+        reviser = recognizer if table.reviser is None else trained_recognizer(table.reviser, data_root=data_root)[0]
+    generators = fit_rows({name: row.recipe for name, row in rows.items()}, train, train_key, workdir, mesh=mesh)
+    chains = {name: functools.partial(chain_actions, generators[name], options=row.options, reviser=reviser,
+                                      local_paths=True) for name, row in rows.items()}
+    candidates = candidate_actions(recognizer, actions, table.protocol.confidence)
+    transitions = label_transitions(train.segments)
+    cells: dict[str, dict[str, np.ndarray]] = {name: {} for name in rows}
+    curves = {}
+    for i, kind in enumerate(table.sets):
+        programs = test_programs(jax.random.fold_in(eval_key, i), actions, candidates, transitions, kind,
+                                 table.protocol)
+        scored, curves[kind] = evaluate_programs(jax.random.fold_in(eval_key, 100 + i), chains, joined, recognizer,
+                                                 programs, test, table.protocol)
+        for name, metrics in paper_columns(scored, MULTI_ACTION_COLUMNS, percent=frozenset()).items():
+            cells[name].update({f"{column} ({SET_LABELS[kind]})": value for column, value in metrics.items()})
+    return cells, curves
+
+
+def save_index_curves(workdir: Path, curves: Mapping[str, Mapping[str, Mapping[str, np.ndarray]]], name: str) -> None:
+    """``curves.json`` and ``<name>.png``: each metric against the action index, one line per row and set."""
+    panels = {column: {f"{row}-{SET_LABELS[kind]}": curve[metric].tolist()
+                       for kind, rows in curves.items() for row, curve in rows.items()}
+              for metric, column in (("accuracy", "Acc"), ("FID", "FID"), ("action_qr", "Action QR"),
+                                     ("motion_qr", "Motion QR"))}
+    (workdir / "curves.json").write_text(json.dumps(panels, indent=1))
+    actions = len(next(iter(next(iter(panels.values())).values())))
+    save_curves(workdir / f"{name}.png", list(range(1, actions + 1)), panels, xlabel="action index")

@@ -1,0 +1,210 @@
+"""Neural Marionette's system: long motions of many actions, one model call per action (§4.3; S-Alg. 1, Alg. 1).
+
+**The chain** (:func:`chain_actions`): action ``a`` of every program continues the last 6 frames of action ``a - 1``
+(the first, a given context): the context is normalised at its last pose, the action generated with its tags, the
+next action's tags, its duration and its path, and put back in the world frame
+(:func:`~jaxmotion.pipelines.marionette.generate_actions`'s step, jitted once per action count and size). Actions
+are joined without blending (the paper's evaluated pipelines). Any model that continues a context runs in it
+(MARIONET, MANN, Action2Motion adapted: :data:`~jaxmotion.pipelines.marionette.CONTEXT_MODELS`).
+
+**Shadow Start** (Eq. 6; MARIONET only: it acts on MARIONET's pose embedding): the begin pose's embedding
+``f_0`` (the last context pose, normalised) is projected by least squares onto the embeddings of the ``neighbours``
+nearest begin poses (L2, in embedding space) of training actions with the action's first tag, and the projection
+``f*_0`` replaces ``f_0`` as the motion decoder's first input; the condition encoder reads the context as it is.
+With ``normalise`` (the paper; without it, its NEURAL MARIONETTE*) ``f*_0`` is put on the sphere the neighbours
+lie on: scaled to their mean norm. **Action Revision** (Alg. 1): each generated action is classified by the
+revision classifier (its first tag is the answer expected); a wrong one is generated once more with Shadow Start
+and a fresh Z, and kept without a second check.
+
+Where the paper is silent ([U] in MARIONETTE.md §2), chosen here: ``neighbours`` 8 (a tag with fewer training
+actions uses all it has; with none, ``f_0`` stays); the radius of the "L2 normalisation" (unit length would put
+the decoder's first input far from every pose embedding it was trained on, whose norms are those of ReLU features
+of width d; the neighbours' mean norm keeps ``f*_0`` among them); the decoder's first input replaced, not the
+encoder's context; a regenerated action draws a new Z; an action is "correct" when the classifier's top class is its
+first tag (the evaluator's label, so AR and Acc agree on what counts).
+
+Axes: B programs, A actions, K = 6 context frames, T frames (the longest action), C tags, N bank entries, d width.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Mapping
+from typing import Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxmotion.config import check_at_least
+from jaxmotion.models import marionet
+from jaxmotion.models.marionet import CONTEXT, MarionetConfig
+from jaxmotion.models.recognition import Recognizer
+from jaxmotion.pipelines.marionette import ContextGenerator, continue_in_world, num_tags
+
+
+@dataclasses.dataclass(frozen=True)
+class ChainOptions:
+    """How the chain corrects itself (Table 5's rows): ``shadow_start`` ``"never"`` (the pure pipeline), ``"always"``
+    (every action starts from its shadow: MARIONET+SS) or ``"revision"`` (Action Revision: actions the classifier
+    rejects are generated once more with Shadow Start); ``neighbours`` (N of Eq. 6) and ``normalise`` (False: NEURAL
+    MARIONETTE*)."""
+
+    shadow_start: Literal["never", "always", "revision"] = "never"
+    neighbours: int = 8
+    normalise: bool = True
+
+    def __post_init__(self):
+        if self.shadow_start not in ("never", "always", "revision"):
+            raise ValueError(f"ChainOptions.shadow_start: expected 'never', 'always' or 'revision', got "
+                             f"{self.shadow_start!r}")
+        check_at_least(self, 1, "neighbours")
+
+
+@functools.partial(jax.jit, static_argnames=("neighbours", "normalise"))
+def shadow_start(params: marionet.MarionetParams, begin: jax.Array, labels: jax.Array, bank: jax.Array,
+                 bank_labels: jax.Array, *, neighbours: int, normalise: bool) -> jax.Array:
+    """Eq. 6: ``begin [B, 135]`` (normalised begin poses), ``labels [B]`` (first tags), ``bank [N, 135]`` (training
+    begin poses) with ``bank_labels [N]`` -> ``f*_0 [B, d]``; rows whose tag has no bank entry keep ``f_0``."""
+    f0 = marionet.embed_poses(params, begin)  # [B, d]
+    embedded = marionet.embed_poses(params, bank)  # [N, d]
+    distance = jnp.sum((f0[:, None] - embedded[None]) ** 2, axis=-1)  # [B, N]
+    same = bank_labels[None] == labels[:, None]
+    count = min(neighbours, bank.shape[0])
+    _, nearest = jax.lax.top_k(-jnp.where(same, distance, jnp.inf), count)  # [B, n]
+    valid = jnp.take_along_axis(same, nearest, axis=1)  # a tag with fewer entries than n: the others dropped
+    basis = jnp.where(valid[..., None], embedded[nearest], 0.0)  # [B, n, d]
+    weights = jax.vmap(lambda f, b: jnp.linalg.lstsq(b.T, f)[0])(f0, basis)  # Phi*: [B, n]
+    projected = jnp.einsum("bn,bnd->bd", weights, basis)
+    if normalise:
+        radius = jnp.sum(jnp.linalg.norm(basis, axis=-1), axis=1) / jnp.maximum(jnp.sum(valid, axis=1), 1)
+        projected = projected * (radius / jnp.maximum(jnp.linalg.norm(projected, axis=-1), 1e-12))[:, None]
+    return jnp.where(valid.any(axis=1)[:, None], projected, f0)
+
+
+@functools.partial(jax.jit, static_argnames=("config", "local_paths", "options"))
+def _action_step(params, config, bank, bank_labels, rotations, translation, tags, next_tags, paths, follow, mask,
+                 key, shadowed, *, local_paths: bool, options: ChainOptions) -> dict[str, jax.Array]:
+    """One action of every program (``shadowed [B]``: rows that start from their shadow) and the next context."""
+
+    def start(begin):  # the normalised begin pose exists inside the step only
+        shadow = shadow_start(params, begin, jnp.argmax(tags, axis=-1), bank, bank_labels,
+                              neighbours=options.neighbours, normalise=options.normalise)
+        return jnp.where(shadowed[:, None], shadow, marionet.embed_poses(params, begin))
+
+    out = continue_in_world(params, config, rotations, translation, tags, next_tags, paths, follow, mask, key,
+                            local_paths=local_paths, start=None if options.shadow_start == "never" else start)
+    durations = jnp.sum(mask, axis=1)
+    index = durations[:, None] + jnp.arange(CONTEXT)  # the last K frames of context + action
+    out["next_rotations"] = _take(jnp.concatenate([rotations, out["rotations"]], axis=1), index)
+    out["next_translation"] = _take(jnp.concatenate([translation, out["translation"]], axis=1), index)
+    return out
+
+
+def _take(frames: jax.Array, index: jax.Array) -> jax.Array:
+    """``frames [B, F, ...]`` at ``index [B, K]`` -> ``[B, K, ...]``."""
+    return jax.vmap(lambda f, i: f[i])(frames, index)
+
+
+def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions: Mapping[str, np.ndarray], *,
+                  options: ChainOptions = ChainOptions(), reviser: Recognizer | None = None,
+                  local_paths: bool = False) -> dict[str, np.ndarray]:
+    """B programs of A actions each, every action continuing the one before (module docstring).
+
+    Args:
+      generator: a trained context model (:class:`~jaxmotion.pipelines.marionette.ContextGenerator`).
+      key: Z for every action (action ``a`` from ``fold_in(key, a)``); None: Z = mu throughout.
+      conditions: ``context_rotations [B, K, 24, 3]`` axis-angle and ``context_translation [B, K, 3]`` (world frame:
+        what the first action continues), ``tags``, ``next_tags [B, A, C]`` bool, ``durations [B, A]`` frames (1 to
+        the model's longest), ``paths [B, A, T, 2]`` the root's ground points per frame, ``follow [B, A]`` bool
+        (which actions follow their path).
+      options: Shadow Start and Action Revision (:class:`ChainOptions`).
+      reviser: Action Revision's classifier (required with ``shadow_start="revision"``).
+      local_paths: the paths are in the frame of each action's start (its context's last pose normalised: Eqs.
+        3-5), as test programs made of actions from different takes give them; False: world points.
+
+    Returns:
+      ``rotations [B, A, T, 24, 3]``, ``translation [B, A, T, 3]``, ``joints [B, A, T, 24, 3]`` (world frame, zero past
+      each action's end), ``lengths [B, A]``, ``shadowed [B, A]`` (started from the shadow) and ``revised [B, A]``
+      (Action Revision regenerated it).
+    """
+    shadowing = options.shadow_start != "never"
+    if shadowing and not isinstance(generator.model, MarionetConfig):
+        raise ValueError(f"options.shadow_start: Shadow Start acts on MARIONET's pose embedding; the generator is "
+                         f"{generator.method}")
+    if options.shadow_start == "revision" and reviser is None:
+        raise ValueError("reviser: Action Revision needs a classifier (the revision classifier)")
+    tags, next_tags = (np.asarray(conditions[k], bool) for k in ("tags", "next_tags"))
+    durations = np.asarray(conditions["durations"])
+    batch, actions, classes = tags.shape
+    paths = np.asarray(conditions["paths"], np.float32)
+    follow = np.asarray(conditions["follow"], bool)
+    expected = {"next_tags": (next_tags.shape, (batch, actions, classes)), "durations": (durations.shape,
+                (batch, actions)), "follow": (follow.shape, (batch, actions))}
+    for name, (shape, want) in expected.items():
+        if shape != want:
+            raise ValueError(f"conditions.{name}: expected {list(want)} (from tags {list(tags.shape)}), got "
+                             f"{list(shape)}")
+    if classes != num_tags(generator.model):
+        raise ValueError(f"conditions.tags: expected {num_tags(generator.model)} tags (the model's), got {classes}")
+    if (not np.issubdtype(durations.dtype, np.integer) or durations.min() < 1
+            or durations.max() > generator.max_frames):
+        raise ValueError(f"conditions.durations: expected frames from 1 to {generator.max_frames}, got "
+                         f"{durations.min()} to {durations.max()}")
+    frames = paths.shape[2] if paths.ndim == 4 else -1
+    if paths.shape[:2] != (batch, actions) or paths.shape[3:] != (2,) or frames < durations.max() or not np.isfinite(
+            paths).all():
+        raise ValueError(f"conditions.paths: expected [B, A, T, 2] = ({batch}, {actions}, T >= {durations.max()}, 2) "
+                         f"finite ground points, got {list(paths.shape)}")
+    rotations = np.asarray(conditions["context_rotations"], np.float32)
+    translation = np.asarray(conditions["context_translation"], np.float32)
+    if rotations.shape != (batch, CONTEXT, 24, 3) or translation.shape != (batch, CONTEXT, 3):
+        raise ValueError(f"conditions.context: expected rotations [{batch}, {CONTEXT}, 24, 3] and translation "
+                         f"[{batch}, {CONTEXT}, 3], got {list(rotations.shape)} and {list(translation.shape)}")
+    bank = generator.starts
+    step = functools.partial(_action_step, generator.params, generator.model, jnp.asarray(bank.bops),
+                             jnp.asarray(bank.bop_labels), local_paths=local_paths, options=options)
+    always = np.full(batch, options.shadow_start == "always")
+    keep = ("rotations", "translation", "joints")
+    outputs: dict[str, list[np.ndarray]] = {name: [] for name in (*keep, "shadowed", "revised")}
+    for a in range(actions):
+        mask = np.arange(frames)[None] < durations[:, a, None]
+        k_a = None if key is None else jax.random.fold_in(key, a)
+        args = (tags[:, a], next_tags[:, a], paths[:, a], follow[:, a], mask)
+        out = step(rotations, translation, *args, k_a, always)
+        revised = np.zeros(batch, bool)
+        if options.shadow_start == "revision":
+            logits, _ = reviser({**{k: np.asarray(out[k]) for k in keep}, "lengths": durations[:, a]})
+            revised = np.asarray(jnp.argmax(logits, axis=-1)) != np.argmax(tags[:, a], axis=-1)
+            if revised.any():
+                again = step(rotations, translation, *args, None if k_a is None else jax.random.fold_in(k_a, 1),
+                             revised)
+                out = jax.tree.map(lambda new, old: jnp.where(
+                    jnp.asarray(revised).reshape(-1, *([1] * (old.ndim - 1))), new, old), again, out)
+        for name in keep:
+            outputs[name].append(np.asarray(out[name]))
+        outputs["shadowed"].append(always | revised)
+        outputs["revised"].append(revised)
+        rotations, translation = out["next_rotations"], out["next_translation"]
+    return {**{name: np.stack(values, axis=1) for name, values in outputs.items()},
+            "lengths": durations.astype(np.int32)}
+
+
+def joined(chained: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The actions of :func:`chain_actions` laid end to end: ``rotations [B, F, 24, 3]``, ``translation [B, F, 3]``,
+    ``joints [B, F, 24, 3]`` (F the longest program; a shorter one repeats its last frame), ``lengths [B]``, and
+    ``boundaries [B, A - 1]`` (the first frame of every action after the first) and ``starts [B, A]`` (every
+    action's first frame: the segment table)."""
+    lengths = np.asarray(chained["lengths"])
+    starts = np.concatenate([np.zeros_like(lengths[:, :1]), np.cumsum(lengths, axis=1)[:, :-1]], axis=1)
+    totals = lengths.sum(axis=1)
+    frames = np.arange(int(totals.max()))
+    time = np.minimum(frames[None], totals[:, None] - 1)  # [B, F]
+    action = np.sum(time[..., None] >= starts[:, None, 1:], axis=-1)  # [B, F]: which action each frame is in
+    within = time - np.take_along_axis(starts, action, axis=1)
+    rows = np.arange(len(lengths))[:, None]
+    out = {name: np.asarray(chained[name])[rows, action, within] for name in ("rotations", "translation", "joints")}
+    return {**out, "lengths": totals.astype(np.int32), "boundaries": starts[:, 1:].astype(np.int32),
+            "starts": starts.astype(np.int32)}
+
