@@ -11,7 +11,7 @@ import pytest
 from smoke_checks import assert_generations_vary, run_smoke
 
 import jaxmotion
-from experiments import marionet_ablation, marionet_multi, marionet_single
+from experiments import marionet_ablation, marionet_multi, marionet_next_tag, marionet_revision, marionet_single
 from jaxmotion.config import FrozenMap
 from jaxmotion.recipes.marionette import ContextFreeRecipe, ContextRecipe
 from jaxmotion.evaluation.tables import slug
@@ -112,3 +112,36 @@ def test_ablation_table_measures_the_joint_error_with_z_at_mu(tmp_path, monkeypa
     # same parameters, and with Z = mu the same actions
     assert rows["w/o Schedule Sampling"]["ΔJPE"] == rows["MARIONET"]["ΔJPE"]
     assert rows["w/o TU (reported)"]["ΔJPE"] == 9.42
+
+
+@pytest.mark.smoke
+def test_revision_table_chains_one_marionet_four_ways_and_reports_both_readings(tmp_path):
+    rows = run_smoke(marionet_revision, tmp_path)["rows"]
+    variants = list(marionet_revision.VARIANTS)
+    assert list(rows) == [r for name in variants for r in (name, f"{name} (reported)")] + [
+        "NEURAL MARIONETTE (reported, text)"]
+    columns = ["Acc", "FID", "Δpose", "Δvel", "Action QR", "Motion QR", "PJ", "AUJ", "Trans. FID"]
+    for name in variants:
+        revising = marionet_revision.VARIANTS[name].shadow_start == "revision"
+        _assert_scored(rows, name, columns + ["Revised"] * revising)
+    # the smoke's classifier, a few steps trained, rejects most actions: Action Revision regenerates some
+    assert rows["NEURAL MARIONETTE"]["Revised"]["mean"] > 0
+    assert rows["NEURAL MARIONETTE (reported)"]["Acc"] == 0.896
+    assert rows["NEURAL MARIONETTE (reported, text)"] == {"Acc": 0.853, "Δpose": 2.65, "Δvel": 0.401}
+    seed = tmp_path / "marionet_revision" / "smoke" / "seed-0"
+    trained = [row for row in ("marionet", "marionet+ss", "neural-marionette-star", "neural-marionette")
+               if (seed / row / "metrics.jsonl").exists()]
+    assert len(trained) == 1  # one training for the four rows
+    assert plt.imread(seed / "figure10.png")[..., :3].std() > 0.01
+
+
+@pytest.mark.smoke
+def test_next_tag_table_scores_single_and_multi_action_accuracy(tmp_path):
+    rows = run_smoke(marionet_next_tag, tmp_path)["rows"]
+    assert list(rows) == ["W/ next tag", "W/ next tag (reported)", "W/O next tag", "W/O next tag (reported)"]
+    for name in marionet_next_tag.ROWS:
+        _assert_scored(rows, name, marionet_next_tag.COLUMNS)
+    assert rows["W/O next tag (reported)"] == dict(zip(marionet_next_tag.COLUMNS, (0.875, 0.770, 0.823)))
+    config = marionet_next_tag.MarionetNextTagConfig.cpu()
+    assert config.rows["W/O next tag"].recipe.training.model.next_tag is False
+    assert config.rows["W/ next tag"].recipe == marionet_single.MarionetSingleConfig.cpu().rows["MARIONET"]

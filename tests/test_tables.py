@@ -73,3 +73,4 @@ def test_table_datasets_use_the_stand_in_and_its_evaluator_in_each_profile():
     with pytest.raises(ValueError, match="label"):
         table_dataset("NTU-120", "cpu")
     assert slug("(c) w/o bias token") == "c-w-o-bias-token"
+    assert slug("NEURAL MARIONETTE*") == "neural-marionette-star" != slug("NEURAL MARIONETTE")

@@ -22,7 +22,7 @@ The paper (§5.2.1, S§4.2; MARIONETTE.md §3.2, §4.3) and the choices made whe
   first n actions for every n (Figs. 8 and 10). Beyond the paper, as FlowMDM measures transitions: **PJ**, **AUJ**
   (:mod:`jaxmotion.metrics.smoothness`, 30-frame windows, the reference jerk of the real test takes) and a
   **transition FID**: the windows around the transitions against as many 30-frame windows drawn from the real test
-  takes, read by the same evaluator.
+  takes, read by the same evaluator. With Action Revision, **Revised**: the share of actions 2..A it generated again.
 
 Axes: P programs, A actions, N candidates, T frames, C tags, D features.
 """
@@ -55,7 +55,7 @@ from jaxmotion.progress import phase
 #: figures' QRs and FlowMDM's transition scores.
 MULTI_ACTION_COLUMNS = {"accuracy": "Acc", "FID": "FID", "pose_gap": "Δpose", "velocity_gap": "Δvel",
                         "action_qr": "Action QR", "motion_qr": "Motion QR", "peak_jerk": "PJ",
-                        "area_under_jerk": "AUJ", "transition_FID": "Trans. FID"}
+                        "area_under_jerk": "AUJ", "transition_FID": "Trans. FID", "revised": "Revised"}
 Chain = Callable[[jax.Array, Mapping[str, np.ndarray]], Mapping[str, np.ndarray]]
 Kind = Literal["overall", "sufficient"]
 
@@ -208,7 +208,8 @@ def evaluate_programs(key: jax.Array, chains: Mapping[str, Chain], join: Callabl
 
     Returns ``(rows, curves)``: ``rows[name][metric]`` one value per repetition (``accuracy``, ``FID``, ``pose_gap``
     (cm), ``velocity_gap`` (cm/frame), ``action_qr``, ``motion_qr``, ``peak_jerk``, ``area_under_jerk``,
-    ``transition_FID``); ``curves[name][metric]`` ``[A]`` per action index, the mean over repetitions (``accuracy``,
+    ``transition_FID``, and ``revised`` for chains that say which actions they revised); ``curves[name][metric]``
+    ``[A]`` per action index, the mean over repetitions (``accuracy``,
     ``FID``, cumulative ``action_qr`` and ``motion_qr``)."""
     classes = recognizer.num_classes
     labels = programs.labels
@@ -268,5 +269,7 @@ def _score(generated, motion, labels, recognizer, programs, real_features, takes
               "pose_gap": float(pose_gap), "velocity_gap": float(velocity_gap),
               "action_qr": float(later.mean(axis=1).mean()), "motion_qr": float(later.all(axis=1).mean()),
               **jerk_scores(curve, reference_jerk), "transition_FID": float(fid(window_features, reference))}
+    if "revised" in generated:  # Action Revision's share of regenerated actions
+        scores["revised"] = float(np.mean(generated["revised"][:, 1:]))
     return scores, per_index
 

@@ -78,8 +78,9 @@ def real_sets(data: TableData, data_root: str | None = None) -> dict[str, Motion
 
 
 def slug(name: str) -> str:
-    """A folder name for a table row: ``"w/o µ/Σ tokens"`` -> ``"w-o-tokens"``."""
-    text = re.sub(r"[^a-z0-9.+]+", "-", name.lower()).strip("-")
+    """A folder name for a table row: ``"w/o µ/Σ tokens"`` -> ``"w-o-tokens"``; a starred name (a paper's variant
+    of the unstarred row) -> ``"...-star"``."""
+    text = re.sub(r"[^a-z0-9.+]+", "-", name.lower().replace("*", " star")).strip("-")
     return text or "row"
 
 

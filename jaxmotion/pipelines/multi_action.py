@@ -126,8 +126,8 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
 
     Returns:
       ``rotations [B, A, T, 24, 3]``, ``translation [B, A, T, 3]``, ``joints [B, A, T, 24, 3]`` (world frame, zero past
-      each action's end), ``lengths [B, A]``, ``shadowed [B, A]`` (started from the shadow) and ``revised [B, A]``
-      (Action Revision regenerated it).
+      each action's end), ``lengths [B, A]``, ``shadowed [B, A]`` (started from the shadow) and, with Action Revision,
+      ``revised [B, A]`` (it regenerated the action).
     """
     shadowing = options.shadow_start != "never"
     if shadowing and not isinstance(generator.model, MarionetConfig):
@@ -187,6 +187,8 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
         outputs["shadowed"].append(always | revised)
         outputs["revised"].append(revised)
         rotations, translation = out["next_rotations"], out["next_translation"]
+    if options.shadow_start != "revision":
+        del outputs["revised"]
     return {**{name: np.stack(values, axis=1) for name, values in outputs.items()},
             "lengths": durations.astype(np.int32)}
 
