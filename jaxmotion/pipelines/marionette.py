@@ -373,7 +373,7 @@ class ContextGenerator(SamplingGenerator):
         count, frames = len(lengths), int(lengths.max())
         labels = np.argmax(vectors, axis=1).astype(np.int32)
         k_start, k_z = jax.random.split(key)
-        rotations, translation, start_paths = self._starts_for(k_start, labels, lengths, frames,
+        rotations, translation, start_paths = self.starts_for(k_start, labels, lengths, frames,
                                                                np.array([c is not None for c in contexts]))
         given = np.zeros((count, frames, 2), np.float32)
         follow = (vectors & self._root_tags()).any(axis=1)
@@ -393,7 +393,7 @@ class ContextGenerator(SamplingGenerator):
                                follow, None if mean else k_z, max_frames=self.max_frames)
         return {**out, "actions": labels}
 
-    def _starts_for(self, key: jax.Array, labels: np.ndarray, durations: np.ndarray, frames: int,
+    def starts_for(self, key: jax.Array, labels: np.ndarray, durations: np.ndarray, frames: int,
                     given: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """For each label a training start of that tag drawn with ``key``: context rotations, translation and the
         path that followed it stretched to each duration ``[B, frames, 2]``. ``given [B]``: rows whose context the

@@ -38,6 +38,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.config import check_at_least
+from jaxmotion.data.segments import Program
 from jaxmotion.models import marionet
 from jaxmotion.models.marionet import CONTEXT, MarionetConfig
 from jaxmotion.models.recognition import Recognizer
@@ -210,3 +211,39 @@ def joined(chained: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
     return {**out, "lengths": totals.astype(np.int32), "boundaries": starts[:, 1:].astype(np.int32),
             "starts": starts.astype(np.int32)}
 
+
+
+def bezier_path(points: np.ndarray, frames: int) -> np.ndarray:
+    """The Bézier curve with control points ``points [P, 2]`` (ground x, z) sampled at ``t = n / frames`` for frame
+    ``n = 1 .. frames`` (the supplement's sampling; four points make its cubic, two a straight line) -> ``[frames, 2]``:
+    the root's ground position at the end of each frame, the first point being where the action starts."""
+    points = np.asarray(points, np.float64)
+    t = np.arange(1, frames + 1) / frames
+    curve = np.broadcast_to(points[:, None], (len(points), frames, 2))
+    while len(curve) > 1:  # de Casteljau
+        curve = (1 - t)[None, :, None] * curve[:-1] + t[None, :, None] * curve[1:]
+    return curve[0].astype(np.float32)
+
+
+def program_conditions(generator: ContextGenerator, program: Program, key: jax.Array) -> dict[str, np.ndarray]:
+    """:func:`chain_actions`' conditions (world paths) of one ``program``: its actions' tags, the next action's
+    (the last: its own), durations, their paths where given (world ground points, followed), and its context, or
+    else a training start of the first action's first tag (over the origin, facing +Z), drawn with ``key``."""
+    program.check(generator.class_names, generator.max_frames, num_joints=24)
+    tags = program.tag_matrix(generator.class_names)[None]
+    durations = np.array([[a.duration for a in program.actions]], np.int32)
+    frames = int(durations.max())
+    paths = np.zeros((1, len(program.actions), frames, 2), np.float32)
+    follow = np.zeros((1, len(program.actions)), bool)
+    for a, action in enumerate(program.actions):
+        if action.path is not None:
+            paths[0, a, :action.duration], follow[0, a] = np.asarray(action.path, np.float32), True
+    if program.context is None:
+        label = np.argmax(tags[:, 0], axis=-1).astype(np.int32)
+        rotations, translation, _ = generator.starts_for(key, label, durations[:, 0], frames)
+    else:
+        rotations = np.asarray(program.context["rotations"], np.float32)[None]
+        translation = np.asarray(program.context["translation"], np.float32)[None]
+    return {"context_rotations": rotations, "context_translation": translation, "tags": tags,
+            "next_tags": np.concatenate([tags[:, 1:], tags[:, -1:]], axis=1), "durations": durations, "paths": paths,
+            "follow": follow}

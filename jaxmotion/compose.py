@@ -1,0 +1,142 @@
+"""One long motion from a written list of actions, by a trained Neural Marionette model (or MANN, adapted A2M).
+
+    python -m jaxmotion.compose RUN "stand up 2s, walk 3s along 0,0 2,1 4,0, kick 1.5s, run 2s" --out motion.bvh
+
+``RUN``: a trained generator (its folder, a row folder, or a run's seed folder with ``--row``). The actions, in
+order, separated by commas (or semicolons): each is its tags (names as the model knows them, any case; several
+joined by ``+``: ``sit + arm movement``), its duration (``2s`` seconds or ``45f`` frames), and optionally ``along``
+and ground points ``x,z`` in metres (world frame: the character starts over the origin, facing +z, unless
+``--context`` gives where it stands), the control points of the Bézier curve its root follows (four make the
+supplement's cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the
+segment table (tags, first and last frame, whether Shadow Start or Action Revision acted) is written beside it as
+``<name>.segments.json``. ``--shadow`` chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or
+``revision`` (Action Revision, with the classifier ``--reviser``, trained once and cached).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import jax
+import numpy as np
+
+from jaxmotion.data.export import export_motions
+from jaxmotion.data.segments import Program, ProgramAction
+from jaxmotion.evaluation.recognizers import trained_recognizer
+from jaxmotion.files import write_atomic
+from jaxmotion.pipelines.load import load_generator
+from jaxmotion.pipelines.marionette import ContextGenerator
+from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path, chain_actions, joined, program_conditions
+from jaxmotion.recipes.evaluators import evaluator_spec
+
+_ACTION = re.compile(r"^(?P<tags>.+?)\s+(?P<amount>\d+(?:\.\d+)?)(?P<unit>s|f)(?:\s+along\s+(?P<path>.+))?$")
+_POINT = re.compile(r"^(-?\d+(?:\.\d+)?),(-?\d+(?:\.\d+)?)$")
+FORMATS = {".bvh": "bvh", ".npz": "npz", ".npy": "npy"}
+
+
+def parse_actions(text: str, tag_names: Sequence[str], fps: float, max_frames: int) -> Program:
+    """The :class:`~jaxmotion.data.segments.Program` a written list describes (module docstring); a ``ValueError``
+    naming the action (its number and text) and what is wrong."""
+    items = [item.strip() for item in re.split(r",\s+|;", text.strip()) if item.strip()]
+    if not items:
+        raise ValueError("actions: expected at least one action, e.g. \"walk 2s, kick 1.5s\"")
+    names = {" ".join(name.lower().split()): name for name in tag_names}
+    actions = []
+    for number, item in enumerate(items, 1):
+        where = f"action {number} ({item!r})"
+        match = _ACTION.match(" ".join(item.split()))
+        if match is None:
+            raise ValueError(f"{where}: expected '<tags> <duration>s|f [along x,z x,z ...]', e.g. 'walk 3s along "
+                             f"0,0 2,1'")
+        tags = []
+        for tag in match["tags"].split("+"):
+            key = " ".join(tag.lower().split())
+            if key not in names:
+                raise ValueError(f"{where}: tags: unknown tag {tag.strip()!r}; the model knows: "
+                                 f"{', '.join(tag_names)}")
+            tags.append(names[key])
+        amount = float(match["amount"])
+        frames = round(amount * fps) if match["unit"] == "s" else int(amount)
+        if not 1 <= frames <= max_frames:
+            raise ValueError(f"{where}: duration: expected 1 to {max_frames} frames ({max_frames / fps:g} s at "
+                             f"{fps:g} fps, the model's longest action), got {frames}")
+        path = None
+        if match["path"] is not None:
+            points = [_POINT.match(p) for p in match["path"].split()]
+            if len(points) < 2 or not all(points):
+                raise ValueError(f"{where}: path: expected two or more ground points 'x,z' after 'along', got "
+                                 f"{match['path']!r}")
+            control = np.array([[float(p[1]), float(p[2])] for p in points])
+            path = tuple(map(tuple, bezier_path(control, frames).tolist()))
+        actions.append(ProgramAction(tuple(tags), frames, path))
+    return Program(tuple(actions))
+
+
+def compose(generator: ContextGenerator, program: Program, key: jax.Array, *,
+            options: ChainOptions = ChainOptions(), reviser=None, mean: bool = False) -> dict:
+    """One motion of ``program``'s actions in order (:func:`~jaxmotion.pipelines.multi_action.chain_actions`):
+    ``rotations [T, 24, 3]``, ``translation [T, 3]``, ``joints [T, 24, 3]`` and ``segments`` (per action: tags,
+    first frame, end frame, ``shadowed``, ``revised``). ``mean``: Z = mu for every action."""
+    k_start, k_chain = jax.random.split(key)
+    conditions = program_conditions(generator, program, k_start)
+    chained = chain_actions(generator, None if mean else k_chain, conditions, options=options, reviser=reviser)
+    motion = joined(chained)
+    ends = motion["starts"][0] + chained["lengths"][0]
+    revised = chained.get("revised", np.zeros_like(chained["shadowed"]))[0]
+    segments = [{"tags": list(action.tags), "start": int(start), "end": int(end), "shadowed": bool(shadowed),
+                 "revised": bool(again)} for action, start, end, shadowed, again in
+                zip(program.actions, motion["starts"][0], ends, chained["shadowed"][0], revised)]
+    frames = int(motion["lengths"][0])
+    return {**{k: motion[k][0, :frames] for k in ("rotations", "translation", "joints")}, "segments": segments}
+
+
+def main(argv: Sequence[str] | None = None) -> Path:
+    parser = argparse.ArgumentParser(prog="python -m jaxmotion.compose", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run", help="a trained generator: its folder, a row folder or a run's seed folder")
+    parser.add_argument("actions", help="the actions, e.g. \"stand up 2s, walk 3s along 0,0 2,1 4,0, kick 1.5s\"")
+    parser.add_argument("--out", required=True, help="the motion file: .bvh, .npz (AMASS layout) or .npy (joints)")
+    parser.add_argument("--row", help="the row's folder when RUN holds several generators (e.g. marionet)")
+    parser.add_argument("--seed", type=int, default=0, help="draws the start and every Z (default 0)")
+    parser.add_argument("--mean", action="store_true", help="Z = mu for every action (no sampling)")
+    parser.add_argument("--shadow", choices=("never", "always", "revision"), default="never",
+                        help="Shadow Start: never (the pure pipeline, default), always, or on Action Revision")
+    parser.add_argument("--reviser", default="synth-mag/transformer-seed1",
+                        help="Action Revision's classifier (an evaluator name; default synth-mag/transformer-seed1)")
+    parser.add_argument("--reviser-profile", default="cpu", choices=("smoke", "cpu", "paper"),
+                        help="the classifier's training profile (default cpu; trained once, then cached)")
+    args = parser.parse_args(argv)
+    out = Path(args.out)
+    try:
+        if out.suffix not in FORMATS:
+            raise ValueError(f"--out: expected a .bvh, .npz or .npy file, got {out.name!r}")
+        generator = load_generator(args.run, row=args.row)
+        if not isinstance(generator, ContextGenerator):
+            raise ValueError(f"RUN: {args.run} holds a {generator.method} generator, which does not continue a "
+                             f"context; compose needs MARIONET, MANN or adapted A2M")
+        program = parse_actions(args.actions, generator.class_names, generator.fps, generator.max_frames)
+        reviser = None
+        if args.shadow == "revision":
+            reviser, _ = trained_recognizer(evaluator_spec(args.reviser, args.reviser_profile))
+        motion = compose(generator, program, jax.random.key(args.seed), options=ChainOptions(args.shadow),
+                         reviser=reviser, mean=args.mean)
+    except (ValueError, FileNotFoundError) as error:
+        parser.exit(2, f"{parser.prog}: error: {error}\n")
+    batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
+    written = export_motions(out.parent, batch, generator.facts.skeleton, generator.fps, formats=(FORMATS[out.suffix],),
+                             names=[out.stem])
+    table = out.with_name(f"{out.stem}.segments.json")
+    write_atomic(table, json.dumps({"fps": generator.fps, "frames": len(motion["joints"]),
+                                    "segments": motion["segments"]}, indent=1).encode())
+    print(f"{written[0]}: {len(motion['joints'])} frames, {len(program.actions)} actions; segments in {table}",
+          file=sys.stderr)
+    return written[0]
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,85 @@
+"""The compose command: a written list of actions read into a program (tags in any case, durations in seconds or
+frames, Bézier paths), chained into one motion with its segment table, exported; bad text named by action."""
+
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from jaxmotion.compose import compose, main, parse_actions
+from jaxmotion.data import synthetic
+from jaxmotion.data.export import load_bvh
+from jaxmotion.data.mag_tags import TAG_NAMES
+from jaxmotion.models.marionet import MarionetConfig, init_marionet
+from jaxmotion.pipelines.artefacts import DataFacts
+from jaxmotion.pipelines.marionette import ContextGenerator, start_bank
+from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path
+
+CONFIG = MarionetConfig.tiny(max_frames=40)
+
+
+def test_the_written_list_becomes_a_program():
+    program = parse_actions("stand up 1s, Walk 1.5s along 0,0 2,1 4,0, sit + ARM movement 12f; kick 0.5s",
+                            TAG_NAMES, 30.0, 120)
+    assert [a.tags for a in program.actions] == [("Stand Up",), ("Walk",), ("Sit", "Arm Movement"), ("Kick",)]
+    assert [a.duration for a in program.actions] == [30, 45, 12, 15]
+    assert [a.path is None for a in program.actions] == [True, False, True, True]
+    walk = np.array(program.actions[1].path)
+    assert walk.shape == (45, 2) and np.allclose(walk[-1], [4.0, 0.0]) and np.abs(walk[0]).max() < 0.2
+    assert parse_actions("Walk Upward/Downward 2s", TAG_NAMES, 30.0, 120).actions[0].tags == ("Walk Upward/Downward",)
+
+
+def test_bad_text_names_the_action_and_the_field():
+    with pytest.raises(ValueError, match=r"action 2 \('dance 2s'\): tags: unknown tag 'dance'; the model knows: Walk"):
+        parse_actions("walk 1s, dance 2s", TAG_NAMES, 30.0, 120)
+    with pytest.raises(ValueError, match=r"action 1 \('walk 5s'\): duration: expected 1 to 120 frames \(4 s"):
+        parse_actions("walk 5s", TAG_NAMES, 30.0, 120)
+    with pytest.raises(ValueError, match=r"action 1 .*: path: expected two or more ground points 'x,z'"):
+        parse_actions("walk 2s along 0,0", TAG_NAMES, 30.0, 120)
+    with pytest.raises(ValueError, match=r"action 1 \('walk'\): expected '<tags> <duration>s\|f"):
+        parse_actions("walk", TAG_NAMES, 30.0, 120)
+    with pytest.raises(ValueError, match="actions: expected at least one action"):
+        parse_actions("  ", TAG_NAMES, 30.0, 120)
+
+
+def test_bezier_paths_are_the_supplements_curves_sampled_at_n_over_t():
+    line = bezier_path(np.array([[0.0, 0.0], [3.0, -6.0]]), 3)
+    np.testing.assert_allclose(line, [[1, -2], [2, -4], [3, -6]], atol=1e-6)
+    p = np.array([[0.0, 0.0], [1.0, 2.0], [3.0, 2.0], [4.0, 0.0]])
+    t = np.arange(1, 5)[:, None] / 4
+    cubic = (1 - t) ** 3 * p[0] + 3 * (1 - t) ** 2 * t * p[1] + 3 * (1 - t) * t ** 2 * p[2] + t ** 3 * p[3]
+    np.testing.assert_allclose(bezier_path(p, 4), cubic, atol=1e-6)
+
+
+@pytest.fixture(scope="module")
+def generator():
+    takes = synthetic.generate("synth-mag", "test", seed=0, count=4, progress=False)
+    params = jax.jit(init_marionet, static_argnums=1)(jax.random.key(0), CONFIG)
+    return ContextGenerator(CONFIG, params, DataFacts.of(takes), start_bank(takes, per_tag=2), max_frames=40)
+
+
+def test_composed_actions_follow_one_another_with_their_segment_table(generator):
+    program = parse_actions("walk 20f along 0,0 1,0, wave hand 10f, run 15f", generator.class_names, 30.0, 40)
+    motion = compose(generator, program, jax.random.key(0), options=ChainOptions("always"))
+    assert motion["joints"].shape == (45, 24, 3) and np.isfinite(motion["joints"]).all()
+    assert [(s["start"], s["end"]) for s in motion["segments"]] == [(0, 20), (20, 30), (30, 45)]
+    assert [s["tags"] for s in motion["segments"]] == [["Walk"], ["Wave Hand"], ["Run"]]
+    assert all(s["shadowed"] and not s["revised"] for s in motion["segments"])
+    again = compose(generator, program, jax.random.key(0), options=ChainOptions("always"))
+    np.testing.assert_array_equal(again["joints"], motion["joints"])  # deterministic from the key
+
+
+def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, capsys):
+    folder = generator.save(tmp_path / "generator")
+    out = tmp_path / "out" / "motion.bvh"
+    written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean"])
+    assert written == out and load_bvh(out).rotations.shape[0] == 35
+    table = json.loads((tmp_path / "out" / "motion.segments.json").read_text())
+    assert table["frames"] == 35 and [s["end"] for s in table["segments"]] == [15, 35]
+    for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],
+                                                                  "--out: expected a .bvh, .npz or .npy file")):
+        argv = [str(folder), *bad] + ([] if "--out" in bad else ["--out", str(out)])
+        with pytest.raises(SystemExit) as exit_:
+            main(argv)
+        assert exit_.value.code == 2 and message in capsys.readouterr().err
