@@ -13,8 +13,9 @@ the most frequent ones ("sufficient"). The test sets, scores and the choices whe
 
 Table: rows MANN, A2M, MARIONET, each followed by the paper's numbers ("(reported)"). Columns per set, "(O)" overall
 and "(S)" sufficient: Acc (a fraction) and FID averaged over actions 2..20, Δpose (cm) and Δvel (cm/frame) over
-the transitions, as the paper; then, beyond it, Action QR and Motion QR over actions 2..20 (the paper plots them
-only), and FlowMDM's Peak Jerk, Area Under the Jerk and transition FID (30-frame windows). Picture:
+the transitions, as the paper; then, beyond it, Motion QR over actions 2..20 (the paper plots it only; the
+action QR over the same actions is the accuracy), and FlowMDM's Peak Jerk, Area Under the Jerk and transition FID
+(30-frame windows). Picture:
 ``figure8.png`` (Acc, FID, Action QR, Motion QR against the action index, both sets); the curves are also in
 ``curves.json``.
 

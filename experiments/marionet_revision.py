@@ -14,7 +14,7 @@ Table: the four rows, each followed by the paper's numbers; NEURAL MARIONETTE's 
 text (Acc 0.896 where the text says "the best Accuracy by 85.3%", which is NEURAL MARIONETTE*'s; Δpose 0.265,
 eight times below the pure pipeline's where the text claims only comparable smoothness: 2.65 read as a slipped
 decimal), so both readings are rows: "(reported)" as printed and "(reported, text)" with Acc 0.853 and Δpose 2.65.
-Columns: Acc, Δpose (cm), Δvel (cm/frame) as the paper, then FID, Action QR, Motion QR, PJ, AUJ, Trans. FID and
+Columns: Acc, Δpose (cm), Δvel (cm/frame) as the paper, then FID, Motion QR, PJ, AUJ, Trans. FID and
 Revised (the share of actions Action Revision generated again), all over actions 2..20 of the overall set (the
 protocol: :mod:`jaxmotion.evaluation.multi_action`). Picture: ``figure10.png`` (Acc, FID, Action QR and Motion QR
 against the action index; the paper plots the QRs), curves in ``curves.json``.

@@ -53,7 +53,7 @@ def _multi_action_table_chains_the_rows_table_1_trained(tmp_path, single):
         shutil.copytree(single / row / "checkpoints", multi / row / "checkpoints")
     rows = run_smoke(marionet_multi, tmp_path)["rows"]
     assert list(rows) == [r for name in marionet_multi.ROWS for r in (name, f"{name} (reported)")]
-    columns = [f"{c} ({s})" for s in "OS" for c in ("Acc", "FID", "Δpose", "Δvel", "Action QR", "Motion QR", "PJ",
+    columns = [f"{c} ({s})" for s in "OS" for c in ("Acc", "FID", "Δpose", "Δvel", "Motion QR", "PJ",
                                                     "AUJ", "Trans. FID")]
     for name in marionet_multi.ROWS:
         _assert_scored(rows, name, columns)
@@ -120,7 +120,7 @@ def test_revision_table_chains_one_marionet_four_ways_and_reports_both_readings(
     variants = list(marionet_revision.VARIANTS)
     assert list(rows) == [r for name in variants for r in (name, f"{name} (reported)")] + [
         "NEURAL MARIONETTE (reported, text)"]
-    columns = ["Acc", "FID", "Δpose", "Δvel", "Action QR", "Motion QR", "PJ", "AUJ", "Trans. FID"]
+    columns = ["Acc", "FID", "Δpose", "Δvel", "Motion QR", "PJ", "AUJ", "Trans. FID"]
     for name in variants:
         revising = marionet_revision.VARIANTS[name].shadow_start == "revision"
         _assert_scored(rows, name, columns + ["Revised"] * revising)

@@ -18,11 +18,12 @@ The paper (§5.2.1, S§4.2; MARIONETTE.md §3.2, §4.3) and the choices made whe
   (top class = the first tag) and **FID** against the real candidates drawn at that index (the same conditions,
   as the single-action protocol); the table averages actions 2..A, as the paper ("the first action's initial
   motion is real"). **Δpose** (cm) and **Δvel** (cm/frame) over all transitions
-  (:mod:`jaxmotion.metrics.transitions`); **action QR** and **motion QR** over actions 2..A; QR curves over the
-  first n actions for every n (Figs. 8 and 10). Beyond the paper, as FlowMDM measures transitions: **PJ**, **AUJ**
-  (:mod:`jaxmotion.metrics.smoothness`, 30-frame windows, the reference jerk of the real test takes) and a
-  **transition FID**: the windows around the transitions against as many 30-frame windows drawn from the real test
-  takes, read by the same evaluator. With Action Revision, **Revised**: the share of actions 2..A it generated again.
+  (:mod:`jaxmotion.metrics.transitions`); **motion QR** over actions 2..A (the action QR over the same actions is the
+  accuracy: programs have equal lengths); QR curves over the first n actions for every n (Figs. 8 and 10).
+  Beyond the paper, as FlowMDM measures transitions: **PJ**, **AUJ** (:mod:`jaxmotion.metrics.smoothness`,
+  30-frame windows, the reference jerk of the real test takes) and a **transition FID**: the windows around the
+  transitions against as many 30-frame windows drawn from the real test takes, read by the same evaluator. With
+  Action Revision, **Revised**: the share of actions 2..A it generated again.
 
 Axes: P programs, A actions, N candidates, T frames, C tags, D features.
 """
@@ -54,7 +55,7 @@ from jaxmotion.progress import phase
 #: The protocol's metric names -> the tables' columns: the paper's (Table 3: Acc, FID, Δpose, Δvel), then its
 #: figures' QRs and FlowMDM's transition scores.
 MULTI_ACTION_COLUMNS = {"accuracy": "Acc", "FID": "FID", "pose_gap": "Δpose", "velocity_gap": "Δvel",
-                        "action_qr": "Action QR", "motion_qr": "Motion QR", "peak_jerk": "PJ",
+                        "motion_qr": "Motion QR", "peak_jerk": "PJ",
                         "area_under_jerk": "AUJ", "transition_FID": "Trans. FID", "revised": "Revised"}
 Chain = Callable[[jax.Array, Mapping[str, np.ndarray]], Mapping[str, np.ndarray]]
 Kind = Literal["overall", "sufficient"]
@@ -207,7 +208,7 @@ def evaluate_programs(key: jax.Array, chains: Mapping[str, Chain], join: Callabl
     (:func:`jaxmotion.pipelines.multi_action.joined`), ``takes`` are the real test takes (transition references).
 
     Returns ``(rows, curves)``: ``rows[name][metric]`` one value per repetition (``accuracy``, ``FID``, ``pose_gap``
-    (cm), ``velocity_gap`` (cm/frame), ``action_qr``, ``motion_qr``, ``peak_jerk``, ``area_under_jerk``,
+    (cm), ``velocity_gap`` (cm/frame), ``motion_qr``, ``peak_jerk``, ``area_under_jerk``,
     ``transition_FID``, and ``revised`` for chains that say which actions they revised); ``curves[name][metric]``
     ``[A]`` per action index, the mean over repetitions (``accuracy``,
     ``FID``, cumulative ``action_qr`` and ``motion_qr``)."""
@@ -267,7 +268,7 @@ def _score(generated, motion, labels, recognizer, programs, real_features, takes
     _, reference = recognizer(real_windows(key, takes, protocol.window, len(windows["lengths"])))
     scores = {"accuracy": float(per_index["accuracy"][1:].mean()), "FID": float(per_index["FID"][1:].mean()),
               "pose_gap": float(pose_gap), "velocity_gap": float(velocity_gap),
-              "action_qr": float(later.mean(axis=1).mean()), "motion_qr": float(later.all(axis=1).mean()),
+              "motion_qr": float(later.all(axis=1).mean()),
               **jerk_scores(curve, reference_jerk), "transition_FID": float(fid(window_features, reference))}
     if "revised" in generated:  # Action Revision's share of regenerated actions
         scores["revised"] = float(np.mean(generated["revised"][:, 1:]))

@@ -318,7 +318,7 @@ def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, work
                       ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, dict[str, np.ndarray]]]]:
     """Train every row's recipe (:func:`~jaxmotion.recipes.tables.fit_rows`: rows that differ by their chain options
     train once) and score the chains on each test set. Returns the table (columns ``"<metric> (O)"``, ``"<metric>
-    (S)"``: Acc, FID, Δpose, Δvel, then Action QR, Motion QR, PJ, AUJ, Trans. FID) and the curves per set and
+    (S)"``: Acc, FID, Δpose, Δvel, then Motion QR, PJ, AUJ, Trans. FID) and the curves per set and
     row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
     single = table.single
     train = load_dataset(single.dataset, "train", seed=single.seed, data_root=data_root, count=single.count)
