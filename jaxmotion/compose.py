@@ -5,10 +5,10 @@
 ``RUN``: a trained generator (its folder, a row folder, or a run's seed folder with ``--row``). The actions, in
 order, separated by commas (or semicolons): each is its tags (names as the model knows them, any case; several
 joined by ``+``: ``sit + arm movement``), its duration (``2s`` seconds or ``45f`` frames), and optionally ``along``
-and ground points ``x,z`` in metres (world frame: the character starts over the origin, facing +z, unless
-``--context`` gives where it stands), the control points of the Bézier curve its root follows (four make the
-supplement's cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the
-segment table (tags, first and last frame, whether Shadow Start or Action Revision acted) is written beside it as
+and ground points ``x,z`` in metres (world frame: the character starts from a training start of the first tag,
+over the origin, facing +z), the control points of the Bézier curve its root follows (four make the supplement's
+cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the segment table
+(tags, first frame and end frame, whether Shadow Start or Action Revision acted) is written beside it as
 ``<name>.segments.json``. ``--shadow`` chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or
 ``revision`` (Action Revision, with the classifier ``--reviser``, trained once and cached).
 """
