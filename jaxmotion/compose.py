@@ -9,13 +9,16 @@ and ground points ``x,z`` in metres (world frame: the character starts from a tr
 over the origin, facing +z), the control points of the Bézier curve its root follows (four make the supplement's
 cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the segment table
 (tags, first frame and end frame, whether Shadow Start or Action Revision acted) is written beside it as
-``<name>.segments.json``. ``--shadow`` chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or
-``revision`` (Action Revision, with the classifier ``--reviser``, trained once and cached).
+``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline. An action
+whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
+chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
+classifier ``--reviser``, trained once and cached).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import re
 import sys
@@ -26,7 +29,9 @@ import jax
 import numpy as np
 
 from jaxmotion.data.export import export_motions
-from jaxmotion.data.segments import Program, ProgramAction
+from jaxmotion.data.motion import MotionDataset, to_dataset
+from jaxmotion.data.preview import take_strip
+from jaxmotion.data.segments import Program, ProgramAction, Segments
 from jaxmotion.evaluation.recognizers import trained_recognizer
 from jaxmotion.files import write_atomic
 from jaxmotion.pipelines.load import load_generator
@@ -95,6 +100,32 @@ def compose(generator: ContextGenerator, program: Program, key: jax.Array, *,
     return {**{k: motion[k][0, :frames] for k in ("rotations", "translation", "joints")}, "segments": segments}
 
 
+def unseen_pairs(generator: ContextGenerator, program: Program) -> list[str]:
+    """A warning for each action whose first tag never followed the previous action's in the training takes (the
+    paper's failure case: the chain leaves what it learnt; Fig. 11b)."""
+    labels = np.argmax(program.tag_matrix(generator.class_names), axis=1)
+    names, seen = generator.class_names, generator.starts.transitions
+    return [f"action {a + 1} ({names[after]}) after action {a} ({names[before]}): the model never saw "
+            f"{names[before]!r} followed by {names[after]!r} in training; the motion may go astray there"
+            for a, (before, after) in enumerate(zip(labels[:-1], labels[1:]), 1) if not seen[before, after]]
+
+
+def motion_dataset(generator: ContextGenerator, motion: dict, name: str = "composed") -> MotionDataset:
+    """A composed ``motion`` (:func:`compose`) as a one-take dataset with its segment table (for pictures)."""
+    frames = len(motion["joints"])
+    batch = {**{k: motion[k][None] for k in ("rotations", "translation", "joints")}, "lengths": np.array([frames]),
+             "actions": np.zeros(1, np.int32)}
+    data = to_dataset(batch, generator.facts.skeleton, generator.class_names, generator.fps, name=name)
+    tags = np.zeros((len(motion["segments"]), len(generator.class_names)), bool)
+    for row, segment in enumerate(motion["segments"]):
+        tags[row, [generator.class_names.index(t) for t in segment["tags"]]] = True
+    count = len(tags)
+    segments = Segments(np.zeros(count, np.int32), np.array([s["start"] for s in motion["segments"]], np.int32),
+                        np.array([s["end"] for s in motion["segments"]], np.int32), tags,
+                        np.concatenate([tags[1:], tags[-1:]]), np.full(count, -1, np.int32))
+    return dataclasses.replace(data, segments=segments)
+
+
 def main(argv: Sequence[str] | None = None) -> Path:
     parser = argparse.ArgumentParser(prog="python -m jaxmotion.compose", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -120,6 +151,8 @@ def main(argv: Sequence[str] | None = None) -> Path:
             raise ValueError(f"RUN: {args.run} holds a {generator.method} generator, which does not continue a "
                              f"context; compose needs MARIONET, MANN or adapted A2M")
         program = parse_actions(args.actions, generator.class_names, generator.fps, generator.max_frames)
+        for warning in unseen_pairs(generator, program):
+            print(f"warning: {warning}", file=sys.stderr)
         reviser = None
         if args.shadow == "revision":
             reviser, _ = trained_recognizer(evaluator_spec(args.reviser, args.reviser_profile))
@@ -133,8 +166,10 @@ def main(argv: Sequence[str] | None = None) -> Path:
     table = out.with_name(f"{out.stem}.segments.json")
     write_atomic(table, json.dumps({"fps": generator.fps, "frames": len(motion["joints"]),
                                     "segments": motion["segments"]}, indent=1).encode())
-    print(f"{written[0]}: {len(motion['joints'])} frames, {len(program.actions)} actions; segments in {table}",
-          file=sys.stderr)
+    picture = out.with_suffix(".png")
+    take_strip(motion_dataset(generator, motion, out.stem), 0, str(picture))
+    print(f"{written[0]}: {len(motion['joints'])} frames, {len(program.actions)} actions; segments in {table}, "
+          f"a strip with the tag timeline in {picture}", file=sys.stderr)
     return written[0]
 
 

@@ -4,10 +4,11 @@ frames, Bézier paths), chained into one motion with its segment table, exported
 import json
 
 import jax
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from jaxmotion.compose import compose, main, parse_actions
+from jaxmotion.compose import compose, main, parse_actions, unseen_pairs
 from jaxmotion.data import synthetic
 from jaxmotion.data.export import load_bvh
 from jaxmotion.data.mag_tags import TAG_NAMES
@@ -77,9 +78,25 @@ def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, cap
     assert written == out and load_bvh(out).rotations.shape[0] == 35
     table = json.loads((tmp_path / "out" / "motion.segments.json").read_text())
     assert table["frames"] == 35 and [s["end"] for s in table["segments"]] == [15, 35]
+    picture = plt.imread(tmp_path / "out" / "motion.png")  # poses above the tag timeline
+    assert picture.shape[1] > 2 * picture.shape[0] and picture[..., :3].std() > 0.01
+    seen = generator.starts.transitions[TAG_NAMES.index("Walk"), TAG_NAMES.index("Stand Up")] > 0
+    assert ("never saw 'Walk' followed by 'Stand Up'" in capsys.readouterr().err) == (not seen)
     for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],
                                                                   "--out: expected a .bvh, .npz or .npy file")):
         argv = [str(folder), *bad] + ([] if "--out" in bad else ["--out", str(out)])
         with pytest.raises(SystemExit) as exit_:
             main(argv)
         assert exit_.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_tag_pairs_never_seen_in_training_are_named(generator):
+    seen = generator.starts.transitions
+    before, after = np.argwhere(seen > 0)[0]
+    never = np.argwhere(seen == 0)[0]
+    names = generator.class_names
+    text = f"{names[before]} 10f, {names[after]} 10f, {names[never[0]]} 10f, {names[never[1]]} 10f"
+    warnings = unseen_pairs(generator, parse_actions(text, names, 30.0, 40))
+    expected = [a for a, (x, y) in enumerate([(before, after), (after, never[0]), (never[0], never[1])], 2)
+                if not seen[x, y]]
+    assert [int(w.split()[1]) for w in warnings] == expected and 4 in expected

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from jaxmotion.data import synthetic
+from jaxmotion.data.segments import label_transitions
 from jaxmotion.evaluation.actions import action_set
 from jaxmotion.evaluation.multi_action import (MultiActionProtocol, candidate_actions, evaluate_programs,
-                                               label_transitions,
                                                test_programs as make_programs)
 from jaxmotion.pipelines.multi_action import joined
 

@@ -152,6 +152,16 @@ def transition_counts(segments: Segments) -> np.ndarray:
     return before.T @ after
 
 
+def label_transitions(segments: Segments) -> np.ndarray:
+    """``[C, C]`` int64: how often an action whose first tag is ``a`` is followed in its take by one whose first
+    tag is ``b`` (test programs step from label to label; :func:`transition_counts` counts every pair of
+    tags)."""
+    follows = np.flatnonzero(segments.sequence[1:] == segments.sequence[:-1])
+    counts = np.zeros((segments.tags.shape[1],) * 2, np.int64)
+    np.add.at(counts, (segments.primary[follows], segments.primary[follows + 1]), 1)
+    return counts
+
+
 def _first_bad(rows: np.ndarray, field: str, expected: str, values: np.ndarray) -> None:
     if len(rows):
         raise ValueError(f"segments.{field}: row {int(rows[0])}: expected {expected}, got {values[rows[0]]} "

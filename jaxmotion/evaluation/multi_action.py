@@ -8,7 +8,7 @@ The paper (§5.2.1, S§4.2; MARIONETTE.md §3.2, §4.3) and the choices made whe
   action classifier" is unnamed: the evaluator, so the candidates are the actions it reads reliably).
 * **Programs** (:func:`test_programs`): one per candidate (or ``count`` evenly spaced ones), which is the first
   action; each next tag is drawn uniformly from the tags that follow the current one in the training takes
-  (:func:`label_transitions`) and have candidates ("overall"), or from the
+  (:func:`~jaxmotion.data.segments.label_transitions`) and have candidates ("overall"), or from the
   current tag, its real next tag and the 4 tags that follow it most often ("sufficient"); the next action is a
   candidate of that tag drawn uniformly. Each action keeps its candidate's conditions: duration, path (in the frame
   of the candidate's start, so it is replayed from wherever the chain stands) and whether it follows it. The next
@@ -40,7 +40,6 @@ import numpy as np
 
 from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
-from jaxmotion.data.segments import Segments
 from jaxmotion.evaluation.actions import ActionSet
 from jaxmotion.geometry.kinematics import apply_transform, heading_transform
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
@@ -96,16 +95,6 @@ class TestPrograms(NamedTuple):
 
     def __len__(self) -> int:
         return len(self.picks)
-
-
-def label_transitions(segments: Segments) -> np.ndarray:
-    """``[C, C]`` int64: how often an action whose first tag is ``a`` is followed in its take by one whose first
-    tag is ``b`` (the programs step from label to label; :func:`~jaxmotion.data.segments.transition_counts` counts
-    every pair of tags)."""
-    follows = np.flatnonzero(segments.sequence[1:] == segments.sequence[:-1])
-    counts = np.zeros((segments.tags.shape[1],) * 2, np.int64)
-    np.add.at(counts, (segments.primary[follows], segments.primary[follows + 1]), 1)
-    return counts
 
 
 def candidate_actions(recognizer: Recognizer, actions: ActionSet, confidence: float = 0.5) -> np.ndarray:

@@ -32,6 +32,7 @@ import numpy as np
 
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.segments import label_transitions
 from jaxmotion.geometry.kinematics import (apply_transform, forward_kinematics, heading_transform, inverse_transform,
                                           transform_motion)
 from jaxmotion.geometry.representations import from_pose135
@@ -215,7 +216,8 @@ class StartBank(NamedTuple):
     ``translation [C, M, K, 3]``, the ground path that followed each ``paths [C, M, T, 2]`` over its ``durations
     [C, M]`` frames, and ``counts [C]`` (starts held per tag; rows past it are zero). For Shadow Start, the begin
     pose (BOP: the last context pose, normalised) of every training action ``bops [N, 135]`` and its first tag
-    ``bop_labels [N]``."""
+    ``bop_labels [N]``; ``transitions [C, C]``: how often each first tag followed another in the training takes
+    (:func:`~jaxmotion.data.segments.label_transitions`: pairs never seen are the paper's failure case)."""
 
     rotations: np.ndarray
     translation: np.ndarray
@@ -224,6 +226,7 @@ class StartBank(NamedTuple):
     counts: np.ndarray
     bops: np.ndarray
     bop_labels: np.ndarray
+    transitions: np.ndarray
 
 
 def start_bank(data: MotionDataset, per_tag: int = 8) -> StartBank:
@@ -251,7 +254,8 @@ def start_bank(data: MotionDataset, per_tag: int = 8) -> StartBank:
     return StartBank(np.where(used[..., None], rotations[:, :, :CONTEXT], 0.0).astype(np.float32),
                      np.where(used, translation[:, :, :CONTEXT], 0.0).astype(np.float32),
                      np.where(ahead[..., None], translation[:, :, CONTEXT:, [0, 2]], 0.0).astype(np.float32),
-                     durations, counts, np.asarray(bops, np.float32), items.data.actions.astype(np.int32))
+                     durations, counts, np.asarray(bops, np.float32), items.data.actions.astype(np.int32),
+                     label_transitions(data.segments))
 
 
 @jax.jit

@@ -31,9 +31,10 @@ import numpy as np
 from jaxmotion.config import check_at_least
 from jaxmotion.data.datasets import check_dataset_name, load_dataset
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.segments import label_transitions
 from jaxmotion.evaluation.actions import MARIONETTE_COLUMNS, ActionProtocol, action_set, evaluate_actions
 from jaxmotion.evaluation.multi_action import (MULTI_ACTION_COLUMNS, MultiActionProtocol, candidate_actions,
-                                               evaluate_programs, label_transitions, test_programs)
+                                               evaluate_programs, test_programs)
 from jaxmotion.evaluation.recognizers import RecognizerTraining, trained_recognizer
 from jaxmotion.evaluation.tables import paper_columns
 from jaxmotion.models.actor import ActorConfig
