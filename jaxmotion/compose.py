@@ -12,7 +12,8 @@ cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.
 ``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline. An action
 whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
 chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
-classifier ``--reviser``, trained once and cached).
+classifier ``--reviser``, trained once and cached); where Shadow Start acts, ``--smoothing`` frames blend the action
+in from the pose before it (the paper's interface does so; its tables do not).
 """
 
 from __future__ import annotations
@@ -137,6 +138,9 @@ def main(argv: Sequence[str] | None = None) -> Path:
     parser.add_argument("--mean", action="store_true", help="Z = mu for every action (no sampling)")
     parser.add_argument("--shadow", choices=("never", "always", "revision"), default="never",
                         help="Shadow Start: never (the pure pipeline, default), always, or on Action Revision")
+    parser.add_argument("--smoothing", type=int, default=6,
+                        help="frames over which an action that starts from its shadow is blended in from the pose "
+                             "before it (slerp; the paper's interface; default 6, 0: off)")
     parser.add_argument("--reviser", default="synth-mag/transformer-seed1",
                         help="Action Revision's classifier (an evaluator name; default synth-mag/transformer-seed1)")
     parser.add_argument("--reviser-profile", default="cpu", choices=("smoke", "cpu", "paper"),
@@ -156,8 +160,9 @@ def main(argv: Sequence[str] | None = None) -> Path:
         reviser = None
         if args.shadow == "revision":
             reviser, _ = trained_recognizer(evaluator_spec(args.reviser, args.reviser_profile))
-        motion = compose(generator, program, jax.random.key(args.seed), options=ChainOptions(args.shadow),
-                         reviser=reviser, mean=args.mean)
+        options = ChainOptions(args.shadow, smoothing=args.smoothing)
+        motion = compose(generator, program, jax.random.key(args.seed), options=options, reviser=reviser,
+                         mean=args.mean)
     except (ValueError, FileNotFoundError) as error:
         parser.exit(2, f"{parser.prog}: error: {error}\n")
     batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}

@@ -160,3 +160,18 @@ def test_bad_conditions_name_the_field(generator):
     assert chain_actions(mann, None, c)["joints"].shape == (2, ACTIONS, FRAMES, 24, 3)  # MANN chains as well
     with pytest.raises(ValueError, match="ChainOptions.shadow_start: expected"):
         ChainOptions("sometimes")
+
+
+def test_smoothing_blends_shadowed_actions_in_from_the_pose_before(generator):
+    c = _conditions(6)
+    plain = chain_actions(generator, None, c, options=ChainOptions("always"))
+    smooth = chain_actions(generator, None, c, options=ChainOptions("always", smoothing=3))
+    first = smooth["rotations"][:, 0]
+    last = c["context_rotations"][:, -1]
+    # frame 0 lies a quarter of the way from the pose before to the action's own (weights 1/4, 2/4, 3/4, then 1)
+    np.testing.assert_allclose(smooth["translation"][:, 0, 0], 0.75 * c["context_translation"][:, -1]
+                               + 0.25 * plain["translation"][:, 0, 0], atol=1e-5)
+    assert np.abs(first[:, 0] - last).max() < np.abs(plain["rotations"][:, 0, 0] - last).max()
+    np.testing.assert_allclose(smooth["joints"][:, 0, 3:], plain["joints"][:, 0, 3:], atol=1e-5)  # frame 3 on
+    pure = chain_actions(generator, None, c, options=ChainOptions("never", smoothing=3))
+    np.testing.assert_array_equal(pure["joints"], chain_actions(generator, None, c)["joints"])  # no shadow, no blend

@@ -492,3 +492,14 @@ def test_the_rotation_check_is_skipped_under_jit_and_lets_nan_through():
     assert np.isfinite(jax.jit(rot.matrix_to_axis_angle)(reflection)).all()
     nan = jnp.full((3, 3), jnp.nan)
     assert np.isnan(rot.matrix_to_axis_angle(nan)).all()
+
+
+def test_slerp_turns_at_constant_speed_along_the_shorter_arc():
+    axis = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    q0 = np.asarray(rot.axis_angle_to_quaternion(np.zeros(3)))
+    q1 = np.asarray(rot.axis_angle_to_quaternion(1.2 * axis))
+    for t in (0.0, 0.25, 0.5, 1.0):  # halfway in angle, about the same axis
+        np.testing.assert_allclose(rot.quaternion_to_axis_angle(rot.slerp(q0, q1, t)), 1.2 * t * axis, atol=1e-6)
+    np.testing.assert_allclose(rot.quaternion_to_axis_angle(rot.slerp(q0, -q1, 0.5)), 0.6 * axis, atol=1e-6)  # -q1 = q1
+    near = np.asarray(rot.axis_angle_to_quaternion(1e-4 * axis))
+    np.testing.assert_allclose(rot.quaternion_to_axis_angle(rot.slerp(q0, near, 0.5)), 0.5e-4 * axis, atol=1e-8)

@@ -36,6 +36,7 @@ from jaxmotion.geometry.rotations import (
     quaternion_to_axis_angle,
     quaternion_to_matrix,
     rot6d_to_matrix,
+    slerp,
     to_matrix,
 )
 from jaxmotion.geometry.skeletons import (
@@ -57,6 +58,6 @@ __all__ = [
     "library_to_humanact12_frame", "root_relative", "root_trajectory", "transform_motion", "transform_root",
     "EULER_ORDERS", "REPRESENTATIONS", "axis_angle_to_matrix", "axis_angle_to_quaternion", "euler_to_matrix",
     "from_matrix", "matrix_to_axis_angle", "matrix_to_euler", "matrix_to_quaternion", "matrix_to_rot6d",
-    "quaternion_to_axis_angle", "quaternion_to_matrix", "rot6d_to_matrix", "to_matrix",
+    "quaternion_to_axis_angle", "quaternion_to_matrix", "rot6d_to_matrix", "slerp", "to_matrix",
     "CMU_MOCAP20", "GTA22", "NTU25", "SMPL24", "UESTC18", "VIBE18", "Skeleton", "bones", "topological_order",
 ]

@@ -246,6 +246,23 @@ def quaternion_to_axis_angle(quaternion):
     return jnp.where(small, small_factor, large_factor)[..., None] * v
 
 
+def slerp(q0, q1, t):
+    """Spherical linear interpolation of unit quaternions ``q0``, ``q1 [..., 4]`` at ``t [...]`` (0: ``q0``, 1:
+    ``q1``) along the shorter arc (``q1`` flipped when the two lie more than 90 degrees apart); nearly equal
+    rotations are interpolated linearly and renormalised (the arc's sine vanishes there)."""
+    q0 = _checked(q0, (4,), "slerp", "q0")
+    q1 = _checked(q1, (4,), "slerp", "q1")
+    t = jnp.asarray(t, q0.dtype)[..., None]
+    dot = jnp.sum(q0 * q1, axis=-1, keepdims=True)
+    q1, dot = jnp.where(dot < 0, -q1, q1), jnp.abs(dot)
+    near = dot > 0.9995
+    angle = jnp.arccos(jnp.clip(jnp.where(near, 0.5, dot), -1.0, 1.0))
+    arc = (jnp.sin((1 - t) * angle) * q0 + jnp.sin(t * angle) * q1) / jnp.sin(angle)
+    line = (1 - t) * q0 + t * q1
+    line = line / jnp.linalg.norm(line, axis=-1, keepdims=True)
+    return jnp.where(near, line, arc)
+
+
 def matrix_to_axis_angle(matrix, *, check: bool = True):
     """[..., 3, 3] rotation -> [..., 3] rotation vector with angle in [0, pi] (via the robust quaternion
     path; ``check``: see the module)."""

@@ -39,6 +39,10 @@ import numpy as np
 
 from jaxmotion.config import check_at_least
 from jaxmotion.data.segments import Program
+from jaxmotion.geometry.kinematics import forward_kinematics
+from jaxmotion.geometry.rotations import (axis_angle_to_matrix, axis_angle_to_quaternion, quaternion_to_axis_angle,
+                                         slerp)
+from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models import marionet
 from jaxmotion.models.marionet import CONTEXT, MarionetConfig
 from jaxmotion.models.recognition import Recognizer
@@ -50,17 +54,21 @@ class ChainOptions:
     """How the chain corrects itself (Table 5's rows): ``shadow_start`` ``"never"`` (the pure pipeline), ``"always"``
     (every action starts from its shadow: MARIONET+SS) or ``"revision"`` (Action Revision: actions the classifier
     rejects are generated once more with Shadow Start); ``neighbours`` (N of Eq. 6) and ``normalise`` (False: NEURAL
-    MARIONETTE*)."""
+    MARIONETTE*); ``smoothing``: frames over which an action that started from its shadow is blended in from the
+    previous action's last pose (the paper's interface, §6: every joint's rotation by slerp, the root linearly,
+    weight ``(k + 1) / (smoothing + 1)`` on frame k's own pose); 0, the paper's tables: off."""
 
     shadow_start: Literal["never", "always", "revision"] = "never"
     neighbours: int = 8
     normalise: bool = True
+    smoothing: int = 0
 
     def __post_init__(self):
         if self.shadow_start not in ("never", "always", "revision"):
             raise ValueError(f"ChainOptions.shadow_start: expected 'never', 'always' or 'revision', got "
                              f"{self.shadow_start!r}")
         check_at_least(self, 1, "neighbours")
+        check_at_least(self, 0, "smoothing")
 
 
 @functools.partial(jax.jit, static_argnames=("neighbours", "normalise"))
@@ -96,11 +104,30 @@ def _action_step(params, config, bank, bank_labels, rotations, translation, tags
 
     out = continue_in_world(params, config, rotations, translation, tags, next_tags, paths, follow, mask, key,
                             local_paths=local_paths, start=None if options.shadow_start == "never" else start)
+    if options.smoothing:
+        out = _smoothed(out, rotations[:, -1], translation[:, -1], shadowed, mask, options.smoothing)
     durations = jnp.sum(mask, axis=1)
     index = durations[:, None] + jnp.arange(CONTEXT)  # the last K frames of context + action
     out["next_rotations"] = _take(jnp.concatenate([rotations, out["rotations"]], axis=1), index)
     out["next_translation"] = _take(jnp.concatenate([translation, out["translation"]], axis=1), index)
     return out
+
+
+def _smoothed(out: dict[str, jax.Array], last_rotations: jax.Array, last_translation: jax.Array, rows: jax.Array,
+              mask: jax.Array, frames: int) -> dict[str, jax.Array]:
+    """The first ``frames`` frames of the actions of ``rows [B]`` blended in from the pose before them
+    (``last_rotations [B, 24, 3]``, ``last_translation [B, 3]``): :class:`ChainOptions`' ``smoothing``."""
+    weight = jnp.minimum((jnp.arange(mask.shape[1]) + 1.0) / (frames + 1.0), 1.0)  # [T]: 1 from frame `frames` on
+    weight = jnp.where(rows[:, None], weight[None], 1.0)  # [B, T]
+    before = axis_angle_to_quaternion(last_rotations)[:, None]  # [B, 1, 24, 4]
+    rotations = quaternion_to_axis_angle(slerp(before, axis_angle_to_quaternion(out["rotations"]), weight[..., None]))
+    translation = (1.0 - weight[..., None]) * last_translation[:, None] + weight[..., None] * out["translation"]
+    joints = forward_kinematics(axis_angle_to_matrix(rotations), translation, SMPL24.offsets, SMPL24.parents,
+                                check=False)
+    keep = (mask & rows[:, None])[..., None]  # the other rows as they were, bitwise
+    return {**out, "rotations": jnp.where(keep[..., None], rotations, out["rotations"]),
+            "translation": jnp.where(keep, translation, out["translation"]),
+            "joints": jnp.where(keep[..., None], joints, out["joints"])}
 
 
 def _take(frames: jax.Array, index: jax.Array) -> jax.Array:
