@@ -80,19 +80,19 @@ def test_shadow_start_projects_onto_the_nearest_begin_poses_of_the_tag(generator
     # one neighbour: the projection onto the nearest begin pose of tag 1 (by embedding distance)
     nearest = 2 + np.argmin(np.sum((basis[2:5] - f0) ** 2, axis=1))
     alone = basis[nearest] * (f0 @ basis[nearest]) / (basis[nearest] @ basis[nearest])
-    got = shadow_start(params, begin, np.array([1]), bank, labels, neighbours=1, normalise=False)
+    got = shadow_start(params, begin, np.array([1]), basis, labels, neighbours=1, normalise=False)
     np.testing.assert_allclose(np.asarray(got)[0], alone, rtol=1e-4, atol=1e-5)
     # all three of tag 1: the least-squares projection onto their span, then on their mean norm
     span = basis[2:5]
     projection = span.T @ np.linalg.lstsq(span.T, f0, rcond=None)[0]
-    got = shadow_start(params, begin, np.array([1]), bank, labels, neighbours=5, normalise=False)
+    got = shadow_start(params, begin, np.array([1]), basis, labels, neighbours=5, normalise=False)
     np.testing.assert_allclose(np.asarray(got)[0], projection, rtol=1e-3, atol=1e-4)
-    normalised = shadow_start(params, begin, np.array([1]), bank, labels, neighbours=5, normalise=True)
+    normalised = shadow_start(params, begin, np.array([1]), basis, labels, neighbours=5, normalise=True)
     np.testing.assert_allclose(np.linalg.norm(np.asarray(normalised)[0]), np.linalg.norm(span, axis=1).mean(),
                                rtol=1e-5)
     direction = np.asarray(normalised)[0] / np.linalg.norm(np.asarray(normalised)[0])
     np.testing.assert_allclose(direction, projection / np.linalg.norm(projection), atol=1e-3)  # only its length
-    unknown = shadow_start(params, begin, np.array([7]), bank, labels, neighbours=2, normalise=True)
+    unknown = shadow_start(params, begin, np.array([7]), basis, labels, neighbours=2, normalise=True)
     np.testing.assert_allclose(np.asarray(unknown)[0], f0, rtol=1e-6)  # no begin pose of the tag: f_0 stays
 
 

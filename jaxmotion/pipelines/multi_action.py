@@ -72,15 +72,15 @@ class ChainOptions:
 
 
 @functools.partial(jax.jit, static_argnames=("neighbours", "normalise"))
-def shadow_start(params: marionet.MarionetParams, begin: jax.Array, labels: jax.Array, bank: jax.Array,
+def shadow_start(params: marionet.MarionetParams, begin: jax.Array, labels: jax.Array, embedded: jax.Array,
                  bank_labels: jax.Array, *, neighbours: int, normalise: bool) -> jax.Array:
-    """Eq. 6: ``begin [B, 135]`` (normalised begin poses), ``labels [B]`` (first tags), ``bank [N, 135]`` (training
-    begin poses) with ``bank_labels [N]`` -> ``f*_0 [B, d]``; rows whose tag has no bank entry keep ``f_0``."""
+    """Eq. 6: ``begin [B, 135]`` (normalised begin poses), ``labels [B]`` (first tags), ``embedded [N, d]`` (the
+    training begin poses' embeddings, :func:`~jaxmotion.models.marionet.embed_poses`) with ``bank_labels [N]`` ->
+    ``f*_0 [B, d]``; rows whose tag has no bank entry keep ``f_0``."""
     f0 = marionet.embed_poses(params, begin)  # [B, d]
-    embedded = marionet.embed_poses(params, bank)  # [N, d]
     distance = jnp.sum((f0[:, None] - embedded[None]) ** 2, axis=-1)  # [B, N]
     same = bank_labels[None] == labels[:, None]
-    count = min(neighbours, bank.shape[0])
+    count = min(neighbours, embedded.shape[0])
     _, nearest = jax.lax.top_k(-jnp.where(same, distance, jnp.inf), count)  # [B, n]
     valid = jnp.take_along_axis(same, nearest, axis=1)  # a tag with fewer entries than n: the others dropped
     basis = jnp.where(valid[..., None], embedded[nearest], 0.0)  # [B, n, d]
@@ -93,12 +93,13 @@ def shadow_start(params: marionet.MarionetParams, begin: jax.Array, labels: jax.
 
 
 @functools.partial(jax.jit, static_argnames=("config", "local_paths", "options"))
-def _action_step(params, config, bank, bank_labels, rotations, translation, tags, next_tags, paths, follow, mask,
+def _action_step(params, config, embedded, bank_labels, rotations, translation, tags, next_tags, paths, follow, mask,
                  key, shadowed, *, local_paths: bool, options: ChainOptions) -> dict[str, jax.Array]:
-    """One action of every program (``shadowed [B]``: rows that start from their shadow) and the next context."""
+    """One action of every program (``shadowed [B]``: rows that start from their shadow; ``embedded``: the Shadow
+    Start bank's embeddings) and the next context."""
 
     def start(begin):  # the normalised begin pose exists inside the step only
-        shadow = shadow_start(params, begin, jnp.argmax(tags, axis=-1), bank, bank_labels,
+        shadow = shadow_start(params, begin, jnp.argmax(tags, axis=-1), embedded, bank_labels,
                               neighbours=options.neighbours, normalise=options.normalise)
         return jnp.where(shadowed[:, None], shadow, marionet.embed_poses(params, begin))
 
@@ -128,6 +129,9 @@ def _smoothed(out: dict[str, jax.Array], last_rotations: jax.Array, last_transla
     return {**out, "rotations": jnp.where(keep[..., None], rotations, out["rotations"]),
             "translation": jnp.where(keep, translation, out["translation"]),
             "joints": jnp.where(keep[..., None], joints, out["joints"])}
+
+
+_embedded_bank = jax.jit(marionet.embed_poses)
 
 
 def _take(frames: jax.Array, index: jax.Array) -> jax.Array:
@@ -191,7 +195,9 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
         raise ValueError(f"conditions.context: expected rotations [{batch}, {CONTEXT}, 24, 3] and translation "
                          f"[{batch}, {CONTEXT}, 3], got {list(rotations.shape)} and {list(translation.shape)}")
     bank = generator.starts
-    step = functools.partial(_action_step, generator.params, generator.model, jnp.asarray(bank.bops),
+    # the bank's embeddings once per call, not at every action step
+    embedded = _embedded_bank(generator.params, jnp.asarray(bank.bops)) if shadowing else jnp.asarray(bank.bops)
+    step = functools.partial(_action_step, generator.params, generator.model, embedded,
                              jnp.asarray(bank.bop_labels), local_paths=local_paths, options=options)
     always = np.full(batch, options.shadow_start == "always")
     keep = ("rotations", "translation", "joints")
