@@ -65,6 +65,14 @@ for _name, _value in _COMPILATION.items():
     os.environ[_name.upper()] = str(_value)
 
 
+def pytest_collection_modifyitems(items):
+    """Modules holding smoke or integration tests first, each module whole and in its own order (so its fixtures
+    are set up once). pytest-xdist's workers then start on the long runs and end on short unit tests, which they
+    share out, instead of one waiting at the end for the other's last experiment smoke."""
+    heavy = {item.path for item in items if item.get_closest_marker("smoke") or item.get_closest_marker("integration")}
+    items.sort(key=lambda item: item.path not in heavy)  # a stable sort
+
+
 def pytest_sessionfinish(session, exitstatus):
     if _OWNER:
         shutil.rmtree(_SESSION, ignore_errors=True)
