@@ -84,7 +84,7 @@ timing on a batch of ``CHECK_BATCH`` (16) at the same architecture:
 
 Timing: jaxmotion's step and ``generate`` are compiled ahead of time (``jit(...).lower(...).compile()``;
 reported as "compile"); ``generate_motions`` jits on its first call, whose time (trace + compile + one run) is
-reported instead. PyTorch is eager and has none. Each side is called once to warm up, then the sides are called
+reported instead. PyTorch is eager and has none. Each side is called twice to warm up, then the sides are called
 alternately ``--repeats`` times (so background load hits both alike), jaxmotion with ``block_until_ready``, a
 CUDA peer with ``torch.cuda.synchronize()``; the table gives medians and min-max ranges.
 """
@@ -443,7 +443,7 @@ def write_json(path: Path, header: list[str], args, rows) -> None:
 def main() -> None:
     global PEER_DEVICE
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--repeats", type=int, default=5, help="timed calls per row and side, after two warm-up calls")
     parser.add_argument("--batch", type=int, nargs="+", default=[64],
                         help="clips per critic update (one row each; the authors' is 64)")
     parser.add_argument("--only", choices=("train", "generate"), default=None)

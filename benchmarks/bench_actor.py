@@ -41,7 +41,7 @@ parameters and again after one AdamW update of each (which checks the gradients 
 float32 agreement is ~1e-6. Generation is checked on the same z through ``decode``.
 
 Timing: jaxmotion's functions are compiled ahead of time (``jit(...).lower(...).compile()``; that time is
-reported as "compile"; PyTorch is eager and has none); each side is called once to warm up, then the two are
+reported as "compile"; PyTorch is eager and has none); each side is called twice to warm up, then the two are
 called alternately ``--repeats`` times (so background load hits both alike), jaxmotion with
 ``block_until_ready``; the table gives medians and min-max ranges. The "arithmetic floor" is the analytic
 matmul FLOP count of the standard computation, as the issue counts it (every ``2·m·n·k`` of the forward pass,
@@ -73,7 +73,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # runnable from a checkout without installing
 
-from benchmarks.timing import machine_header, time_pair  # noqa: E402
+from benchmarks.timing import WARMUP, machine_header, time_pair  # noqa: E402
 from jaxmotion.geometry.skeletons import SMPL24  # noqa: E402
 from jaxmotion.losses.actor import ActorLossWeights  # noqa: E402
 from jaxmotion.models.actor import ActorConfig, autoencode, decode, generate, init_actor  # noqa: E402
@@ -289,7 +289,7 @@ def bench_train(config: ActorConfig, losses: ActorLossWeights, repeats: int) -> 
         jax.block_until_ready((state, terms))
 
     result, peer_result = time_pair(ours, theirs, repeats)
-    assert np.isfinite(float(state.step)) and int(state.step) == repeats + 1
+    assert np.isfinite(float(state.step)) and int(state.step) == repeats + WARMUP
     return {**result, "peer": peer_result, "parity": parity, "compile_s": compile_s,
             "flops": 3 * forward_flops(config, BATCH, FRAMES), "flops_xla": flops_xla}
 
@@ -344,7 +344,7 @@ def bench_sampler(config: ActorConfig, repeats: int) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=10, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--repeats", type=int, default=10, help="timed calls per row and side, after two warm-up calls")
     parser.add_argument("--only", choices=("train-paper", "train-cpu", "generate"), default=None)
     parser.add_argument("--with-joints", action="store_true", help="train with L_P + L_J + KL (else L_P + KL)")
     parser.add_argument("--with-fk", action="store_true",

@@ -25,7 +25,7 @@ frames randomly padded) on each side and prints max |difference| / max |x| of th
 recomputed one and against the peer's.
 
 Timing (STYLE §3.12): the jitted functions are compiled ahead of time (``jit(...).lower(...).compile()``;
-reported as "compile s"; PyTorch is eager and has none); each is called once to warm up, then the three are
+reported as "compile s"; PyTorch is eager and has none); each is called twice to warm up, then the three are
 called in turn ``--repeats`` times (so background load hits them alike), jaxmotion with
 ``block_until_ready``; medians and min-max ranges in ms. The issue's target: cached >= 3x the peer at 120
 frames. Threads: XLA's defaults (every core); the peer gets ``--torch-threads`` (default: as many as the
@@ -159,7 +159,7 @@ def main() -> None:
     parser.add_argument("--frames", default="60,120,240", help="comma-separated sequence lengths")
     parser.add_argument("--size", choices=tuple(SIZES), default="cpu")
     parser.add_argument("--batch", type=int, default=20)
-    parser.add_argument("--repeats", type=int, default=3, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--repeats", type=int, default=3, help="timed calls per row and side, after two warm-up calls")
     parser.add_argument("--torch-threads", type=int, default=THREADS, help="torch.set_num_threads for the peer")
     args = parser.parse_args()
     frames_list = [int(f) for f in args.frames.split(",")]

@@ -44,7 +44,7 @@ training step at the same inputs and noise (eps and the scheduled-sampling mix r
 ``marionet_step`` draws them), at the initial parameters and after one Adam update of each.
 
 Timing: jaxmotion's functions are compiled ahead of time (``jit(...).lower(...).compile()``, reported as
-"compile"; PyTorch is eager and has none); each side is called once to warm up, then the two are called
+"compile"; PyTorch is eager and has none); each side is called twice to warm up, then the two are called
 alternately ``--repeats`` times (so background load hits both alike), jaxmotion with ``block_until_ready``;
 medians and min-max ranges in ms. Targets (the issue's): training step >= 1.25x the peer, generation >= 5x.
 """
@@ -265,7 +265,7 @@ def print_parity(p: dict, check_batch: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--repeats", type=int, default=3, help="timed calls per row and side, after two warm-up calls")
     parser.add_argument("--only", choices=("train", "generate"), default=None)
     parser.add_argument("--gen-batch", type=int, default=8, help="actions generated per call (120 frames each)")
     parser.add_argument("--check-batch", type=int, default=8, help="actions in the parity check's batch")

@@ -64,7 +64,7 @@ need not agree everywhere).
 Timing: jaxmotion's step and ``generate`` are compiled ahead of time (``jit(...).lower(...).compile()``;
 reported as "compile"); ``generate_from_codes`` and ``discover_modes_batched`` jit on their first call, whose
 time (trace + compile + one run) is reported instead. PyTorch and scikit-learn have none. Each side is called
-once to warm up, then the sides are called alternately ``--repeats`` times (so background load hits both
+twice to warm up, then the sides are called alternately ``--repeats`` times (so background load hits both
 alike), jaxmotion with ``block_until_ready``; the table gives medians and min-max ranges.
 
 ``--breakdown`` adds a table of where a step's time goes: forward, and forward + backward, of each network
@@ -418,7 +418,7 @@ def bench_modes(per_class: int, repeats: int, threads: int) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5, help="timed calls per row and side, after one warm-up")
+    parser.add_argument("--repeats", type=int, default=5, help="timed calls per row and side, after two warm-up calls")
     parser.add_argument("--batch", type=int, nargs="+", default=[512],
                         help="training-step batch sizes in pairs (one row each; the paper's is 512)")
     parser.add_argument("--only", choices=("train", "generate", "modes"), default=None)

@@ -43,11 +43,17 @@ def _stats(times: list[float]) -> dict:
     return {"median": statistics.median(times), "min": min(times), "max": max(times)}
 
 
-def time_alternately(calls, repeats: int) -> list[dict]:
-    """Each of ``calls`` (blocking) once to warm up, then all in turn ``repeats`` times, so background load
-    hits them alike: ms stats per call, in order."""
-    for call in calls:
-        call()
+WARMUP = 2  # rounds of warm-up calls before timing (see time_alternately)
+
+
+def time_alternately(calls, repeats: int, warmup: int = WARMUP) -> list[dict]:
+    """Each of ``calls`` (blocking) ``warmup`` times in turn, then all in turn ``repeats`` times, so background
+    load hits them alike: ms stats per call, in order. Two warm-up rounds: after compilation, a jitted call's
+    second run can still be several times slower than the ones after it (MARIONET's training step: 8.9 s, then
+    3.5 s), as memory for its buffers is first touched."""
+    for _ in range(warmup):
+        for call in calls:
+            call()
     times = [[] for _ in calls]
     for _ in range(repeats):
         for call, record in zip(calls, times):
@@ -58,7 +64,7 @@ def time_alternately(calls, repeats: int) -> list[dict]:
 
 
 def time_pair(ours, theirs, repeats: int) -> tuple[dict, dict | None]:
-    """Each call (``ours`` blocks) once to warm up, then both alternately ``repeats`` times: ms stats."""
+    """Each call (``ours`` blocks) twice to warm up, then both alternately ``repeats`` times: ms stats."""
     if theirs is None:
         return time_alternately([ours], repeats)[0], None
     return tuple(time_alternately([ours, theirs], repeats))
@@ -85,8 +91,8 @@ def time_loop_step(step_fn, state, batch, loop_key, theirs, repeats: int) -> dic
         jax.block_until_ready((holder[0], metrics))
 
     result, peer_result = time_pair(ours, theirs, repeats)
-    if int(holder[0].step) != first + repeats + 1:  # warm-up + repeats steps, none skipped
-        raise AssertionError(f"step count {int(holder[0].step)} after {repeats + 1} steps")
+    if int(holder[0].step) != first + repeats + WARMUP:  # warm-up + repeats steps, none skipped
+        raise AssertionError(f"step count {int(holder[0].step)} after {repeats + WARMUP} steps")
     return {**result, "peer": peer_result, "compile_s": compile_s}
 
 
