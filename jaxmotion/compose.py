@@ -9,7 +9,9 @@ and ground points ``x,z`` in metres (world frame: the character starts from a tr
 over the origin, facing +z), the control points of the Bézier curve its root follows (four make the supplement's
 cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the segment table
 (tags, first frame and end frame, whether Shadow Start or Action Revision acted) is written beside it as
-``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline. An action
+``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline (with
+``--gif`` also ``<name>.gif``: the body in 3D with the timeline's cursor; seconds of rendering per hundred frames,
+so off by default). An action
 whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
 chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
 classifier ``--reviser``, trained once and cached); where Shadow Start acts, ``--smoothing`` frames blend the action
@@ -31,7 +33,7 @@ import numpy as np
 
 from jaxmotion.data.export import export_motions
 from jaxmotion.data.motion import MotionDataset, to_dataset
-from jaxmotion.data.preview import take_strip
+from jaxmotion.data.preview import take_animation, take_strip
 from jaxmotion.data.segments import Program, ProgramAction, Segments
 from jaxmotion.evaluation.recognizers import trained_recognizer
 from jaxmotion.files import write_atomic
@@ -145,6 +147,8 @@ def main(argv: Sequence[str] | None = None) -> Path:
                         help="Action Revision's classifier (an evaluator name; default synth-mag/transformer-seed1)")
     parser.add_argument("--reviser-profile", default="cpu", choices=("smoke", "cpu", "paper"),
                         help="the classifier's training profile (default cpu; trained once, then cached)")
+    parser.add_argument("--gif", action="store_true",
+                        help="also write <name>.gif: the body in 3D above the tag timeline with a moving cursor")
     args = parser.parse_args(argv)
     out = Path(args.out)
     try:
@@ -171,10 +175,13 @@ def main(argv: Sequence[str] | None = None) -> Path:
     table = out.with_name(f"{out.stem}.segments.json")
     write_atomic(table, json.dumps({"fps": generator.fps, "frames": len(motion["joints"]),
                                     "segments": motion["segments"]}, indent=1).encode())
-    picture = out.with_suffix(".png")
-    take_strip(motion_dataset(generator, motion, out.stem), 0, str(picture))
+    pictures = [out.with_suffix(".png")] + [out.with_suffix(".gif")] * args.gif
+    as_dataset = motion_dataset(generator, motion, out.stem)
+    take_strip(as_dataset, 0, str(pictures[0]))
+    if args.gif:
+        take_animation(as_dataset, 0, str(pictures[1]))
     print(f"{written[0]}: {len(motion['joints'])} frames, {len(program.actions)} actions; segments in {table}, "
-          f"a strip with the tag timeline in {picture}", file=sys.stderr)
+          f"the tag timeline with the poses in {' and '.join(map(str, pictures))}", file=sys.stderr)
     return written[0]
 
 

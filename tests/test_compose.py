@@ -7,6 +7,7 @@ import jax
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from PIL import Image
 
 from jaxmotion.compose import compose, main, parse_actions, unseen_pairs
 from jaxmotion.data import synthetic
@@ -74,12 +75,17 @@ def test_composed_actions_follow_one_another_with_their_segment_table(generator)
 def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, capsys):
     folder = generator.save(tmp_path / "generator")
     out = tmp_path / "out" / "motion.bvh"
-    written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean"])
+    written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean", "--gif"])
     assert written == out and load_bvh(out).rotations.shape[0] == 35
     table = json.loads((tmp_path / "out" / "motion.segments.json").read_text())
     assert table["frames"] == 35 and [s["end"] for s in table["segments"]] == [15, 35]
     picture = plt.imread(tmp_path / "out" / "motion.png")  # poses above the tag timeline
     assert picture.shape[1] > 2 * picture.shape[0] and picture[..., :3].std() > 0.01
+    with Image.open(tmp_path / "out" / "motion.gif") as animation:  # one picture per frame, the body moving
+        assert animation.n_frames == 35
+        first = np.asarray(animation.convert("RGB"))
+        animation.seek(34)
+        assert np.abs(np.asarray(animation.convert("RGB"), float) - first).mean() > 0.1
     seen = generator.starts.transitions[TAG_NAMES.index("Walk"), TAG_NAMES.index("Stand Up")] > 0
     assert ("never saw 'Walk' followed by 'Stand Up'" in capsys.readouterr().err) == (not seen)
     for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],
