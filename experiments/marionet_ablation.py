@@ -30,7 +30,8 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
-from jaxmotion.recipes.marionette import ActionTable, MarionetRecipe, action_table, marionet_training, run_action_table
+from jaxmotion.recipes.marionette import (EXPERIMENTS, ActionTable, MarionetRecipe, action_table, marionet_training,
+                                          run_action_table)
 
 COLUMNS = ("FID", "Acc", "Div", "Multi-mod", "ΔJPE")
 # Table 2
@@ -78,7 +79,8 @@ class MarionetAblationConfig(experiment.ProfileConfig):
 
 def run(config: MarionetAblationConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                            eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                            eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                            lenders=ctx.runs(*EXPERIMENTS))
     return interleave_reported({name: {c: cells[c] for c in COLUMNS if c in cells} for name, cells in rows.items()},
                                REPORTED, ROWS)
 

@@ -22,7 +22,8 @@ action QR over the same actions is the accuracy), and FlowMDM's Peak Jerk, Area 
 What differs from the paper, and why: the data (synth-mag and its evaluator; absolute numbers are not comparable
 with the paper's); the cpu profile draws 200 programs per set (the paper one per candidate, 764) and repeats the
 generation 3 times (mean ± 95% CI; the paper generates once). The rows train exactly as in Table 1
-(``marionet_single``: same recipes and key), so a run folder of Table 1 can lend its finished checkpoints.
+(``marionet_single``: same recipes, data and key): run after it with the same ``--out``, this table resumes Table 1's
+finished rows instead of training them again (``recipes.marionette.EXPERIMENTS``).
 Claims the table's layout cannot express (a set against the other for one method: S above O on Acc, and so on)
 are left to the reader of the table.
 """
@@ -36,8 +37,8 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
-from jaxmotion.recipes.marionette import (A2MContextRecipe, ChainRow, MannRecipe, MarionetRecipe, ProgramTable,
-                                          a2m_training, mann_training, marionet_training, program_table,
+from jaxmotion.recipes.marionette import (EXPERIMENTS, A2MContextRecipe, ChainRow, MannRecipe, MarionetRecipe,
+                                          ProgramTable, a2m_training, mann_training, marionet_training, program_table,
                                           run_program_table, save_index_curves)
 
 _PAPER_COLUMNS = ("Acc", "FID", "Δpose", "Δvel")
@@ -78,7 +79,8 @@ class MarionetMultiConfig(experiment.ProfileConfig):
 
 def run(config: MarionetMultiConfig, ctx: experiment.RunContext):
     rows, curves = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                                     lenders=ctx.runs(*EXPERIMENTS))
     save_index_curves(ctx.workdir, curves, "figure8")
     return interleave_reported(rows, REPORTED, ROWS)
 

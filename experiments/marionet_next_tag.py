@@ -25,8 +25,8 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
-from jaxmotion.recipes.marionette import (ChainRow, MarionetRecipe, ProgramTable, marionet_training, program_table,
-                                          run_action_table, run_program_table)
+from jaxmotion.recipes.marionette import (EXPERIMENTS, ChainRow, MarionetRecipe, ProgramTable, marionet_training,
+                                          program_table, run_action_table, run_program_table)
 
 COLUMNS = ("Single Acc", "Multi Acc (O)", "Multi Acc (S)")
 REPORTED = {"W/ next tag": dict(zip(COLUMNS, (0.874, 0.786, 0.862))),
@@ -53,9 +53,11 @@ class MarionetNextTagConfig(experiment.ProfileConfig):
 def run(config: MarionetNextTagConfig, ctx: experiment.RunContext):
     recipes = {name: row.recipe for name, row in config.rows.items()}
     single = run_action_table(recipes, config.table.single, workdir=ctx.workdir, train_key=ctx.key("train"),
-                              eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                              eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                              lenders=ctx.runs(*EXPERIMENTS))
     multi, _ = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                                 eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                                 eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                                 lenders=ctx.runs(*EXPERIMENTS))
     rows = {name: {"Single Acc": single[name]["Acc"], "Multi Acc (O)": multi[name]["Acc (O)"],
                    "Multi Acc (S)": multi[name]["Acc (S)"]} for name in config.rows}
     return interleave_reported(rows, REPORTED, ROWS)

@@ -34,8 +34,8 @@ from jaxmotion.config import FrozenMap
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
 from jaxmotion.pipelines.multi_action import ChainOptions
-from jaxmotion.recipes.marionette import (ChainRow, MarionetRecipe, ProgramTable, marionet_training, program_table,
-                                          run_program_table, save_index_curves)
+from jaxmotion.recipes.marionette import (EXPERIMENTS, ChainRow, MarionetRecipe, ProgramTable, marionet_training,
+                                          program_table, run_program_table, save_index_curves)
 
 _COLUMNS = ("Acc", "Δpose", "Δvel")
 VARIANTS = {"MARIONET": ChainOptions("never"), "MARIONET+SS": ChainOptions("always"),
@@ -73,7 +73,8 @@ class MarionetRevisionConfig(experiment.ProfileConfig):
 
 def run(config: MarionetRevisionConfig, ctx: experiment.RunContext):
     rows, curves = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                                     lenders=ctx.runs(*EXPERIMENTS))
     save_index_curves(ctx.workdir, curves, "figure10")
     rows = {name: {column.removesuffix(" (O)"): cell for column, cell in cells.items()} for name, cells in rows.items()}
     table = interleave_reported(rows, REPORTED, tuple(VARIANTS))

@@ -42,9 +42,9 @@ from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import interleave_reported
 from jaxmotion.pipelines.load import load_generator
 from jaxmotion.pipelines.pictures import marionette_pictures
-from jaxmotion.recipes.marionette import (A2MContextRecipe, ActionTable, ContextFreeRecipe, MannRecipe, MarionetRecipe,
-                                          a2m_training, action_table, actor_training, mann_training, marionet_training,
-                                          run_action_table)
+from jaxmotion.recipes.marionette import (EXPERIMENTS, A2MContextRecipe, ActionTable, ContextFreeRecipe, MannRecipe,
+                                          MarionetRecipe, a2m_training, action_table, actor_training, mann_training,
+                                          marionet_training, run_action_table)
 
 COLUMNS = ("FID", "Acc", "Div", "Multi-mod", "ΔTraj")
 # Table 1 (None: the paper prints "/")
@@ -83,7 +83,8 @@ class MarionetSingleConfig(experiment.ProfileConfig):
 
 def run(config: MarionetSingleConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                            eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh)
+                            eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                            lenders=ctx.runs(*EXPERIMENTS))
     marionette_pictures(load_generator(ctx.workdir, row="marionet"), ctx.key("pictures"), ctx.workdir)
     return interleave_reported(rows, REPORTED, ROWS)
 

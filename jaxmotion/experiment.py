@@ -79,6 +79,11 @@ class RunContext:
         count = jax.device_count() if self.devices is None else self.devices
         return None if count == 1 else data_mesh(count)
 
+    def runs(self, *experiments: str) -> tuple[Path, ...]:
+        """The run folders of other ``experiments`` with this run's profile and seed under the same ``--out``
+        (whether they exist or not)."""
+        return tuple(self.workdir.parents[2] / name / self.profile / self.workdir.name for name in experiments)
+
     def key(self, stream: str) -> jax.Array:
         """An independent PRNG key per named stream (``"init"``, ``"train"``, ``"eval"``, ...).
 

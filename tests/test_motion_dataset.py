@@ -1,5 +1,7 @@
 """The packed motion dataset: indexing, subsets, persistence and validation."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -35,6 +37,16 @@ def test_pack_then_index_returns_each_motion():
     assert data[-1].name == "clip3"
     with pytest.raises(IndexError, match="out of range for 4"):
         data[4]
+
+
+def test_the_digest_is_the_same_for_the_same_data_and_changes_with_any_of_it():
+    data = _dataset()
+    assert data.digest() == _dataset().digest() and len(data.digest()) == 64
+    joints = data.joints.copy()
+    joints[3, 5, 1] += 1e-6
+    changed = (dataclasses.replace(data, joints=joints), data.subset([0, 1, 2, 3], split="test"),
+               dataclasses.replace(data, fps=30.0), _dataset(rotations=False), _dataset(lengths=(5, 7, 3, 8)))
+    assert len({data.digest(), *(other.digest() for other in changed)}) == 1 + len(changed)
 
 
 def test_subset_keeps_order_and_content():

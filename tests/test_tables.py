@@ -1,10 +1,11 @@
 """Method-agnostic tables: rows are recipes trained from one key in their own folders, scored together."""
 
+import jax
 import numpy as np
 import pytest
 
 from jaxmotion.evaluation.tables import ACTOR_COLUMNS, interleave_reported, paper_columns, slug
-from jaxmotion.recipes.tables import fit_rows, table_dataset
+from jaxmotion.recipes.tables import FIT_RECORD, fit_rows, table_dataset
 
 
 class Recorder:
@@ -13,8 +14,14 @@ class Recorder:
     def __init__(self, calls, value):
         self.calls, self.value = calls, value
 
+    def __repr__(self):  # what a fit record holds of a recipe
+        return f"Recorder({self.value})"
+
     def fit(self, data, key, workdir=None, **options):
-        self.calls.append((data, key, workdir, options))
+        resumed = workdir is not None and (workdir / "checkpoints").is_dir()
+        self.calls.append((data, key, workdir, options, resumed))
+        if workdir is not None:
+            (workdir / "checkpoints").mkdir(parents=True, exist_ok=True)
         return self.value
 
     def generator(self, params, facts):
@@ -30,25 +37,53 @@ class Constant:
 
     def save(self, folder):
         self.calls.append(("saved", folder))
+        folder.mkdir(parents=True, exist_ok=True)
 
 
 class Data:
     skeleton, class_names, fps = "SMPL-24", ("a", "b"), 20
 
+    def __init__(self, content="DATA"):
+        self.content = content
+
+    def digest(self):
+        return self.content
+
 
 def test_every_row_trains_from_the_same_key_in_its_own_folder(tmp_path):
-    calls = []
-    generators = fit_rows({"w/o µ/Σ tokens": Recorder(calls, 1), "GRU": Recorder(calls, 2)}, Data(), "KEY", tmp_path,
+    calls, key = [], jax.random.key(0)
+    generators = fit_rows({"w/o µ/Σ tokens": Recorder(calls, 1), "GRU": Recorder(calls, 2)}, Data(), key, tmp_path,
                           mesh="MESH")
     fits = [c for c in calls if c[0] != "saved"]
-    assert [c[1] for c in fits] == ["KEY", "KEY"]
+    assert all(c[1] is key for c in fits)
     assert [c[2] for c in fits] == [tmp_path / "w-o-tokens", tmp_path / "gru"]
     assert all(c[3] == {"mesh": "MESH"} for c in fits)
     # each row's generator is written beside its checkpoints
     assert [c[1] for c in calls if c[0] == "saved"] == [tmp_path / "w-o-tokens" / "generator", tmp_path / "gru" / "generator"]
     assert generators["GRU"].sampler()(None, None, None) == {"params": 2, "skeleton": "SMPL-24"}
     with pytest.raises(ValueError, match="distinct folder names"):
-        fit_rows({"a b": Recorder([], 0), "a-b": Recorder([], 0)}, Data(), "KEY", tmp_path)
+        fit_rows({"a b": Recorder([], 0), "a-b": Recorder([], 0)}, Data(), key, tmp_path)
+
+
+def test_a_row_resumes_the_finished_fit_another_table_made_with_the_same_recipe_data_and_key(tmp_path, capsys):
+    key = jax.random.key(0)
+    table_1 = tmp_path / "single" / "cpu" / "seed-0"
+    fit_rows({"MARIONET": Recorder([], 1), "MANN": Recorder([], 2)}, Data(), key, table_1)
+    assert (table_1 / "marionet" / FIT_RECORD).is_file()
+    calls = []
+    fit_rows({"MARIONET": Recorder(calls, 1), "MANN": Recorder(calls, 3)}, Data(), key, tmp_path / "multi",
+             lenders=[tmp_path / "nowhere", table_1])
+    resumed = {c[2].name: c[4] for c in calls if c[0] != "saved"}
+    assert resumed == {"marionet": True, "mann": False}  # MANN's recipe differs: trained anew
+    assert f"the same fit finished in {table_1 / 'marionet'}" in capsys.readouterr().err
+    for name, args in (("other-key", (Data(), jax.random.key(1))), ("other-data", (Data("OTHER"), key))):
+        calls = []
+        fit_rows({"MARIONET": Recorder(calls, 1)}, *args, tmp_path / name, lenders=[table_1])
+        assert [c[4] for c in calls if c[0] != "saved"] == [False], name
+    (table_1 / "marionet" / "generator").rmdir()  # a fit not finished (no generator yet) is not lent
+    calls = []
+    fit_rows({"MARIONET": Recorder(calls, 1)}, Data(), key, tmp_path / "early", lenders=[table_1])
+    assert [c[4] for c in calls if c[0] != "saved"] == [False]
 
 
 def test_paper_columns_rename_in_the_paper_order_with_accuracy_in_percent():

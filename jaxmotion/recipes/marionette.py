@@ -20,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, NamedTuple
@@ -249,16 +249,23 @@ def action_table(profile: str, *, joint_error: bool = False) -> ActionTable:
                        ActionProtocol(repetitions=repetitions, joint_error=joint_error))
 
 
+#: Neural Marionette's experiments: their rows train alike (the same recipes, data and key stream), so each passes
+#: the others' run folders as ``lenders`` and resumes a row another has finished instead of training it again.
+EXPERIMENTS = ("marionet_single", "marionet_ablation", "marionet_multi", "marionet_next_tag", "marionet_revision")
+
+
 def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: str | Path, train_key: jax.Array,
-                     eval_key: jax.Array, data_root: str | None = None, mesh=None) -> dict[str, dict[str, np.ndarray]]:
+                     eval_key: jax.Array, data_root: str | None = None, mesh=None, lenders: Sequence[str | Path] = ()
+                     ) -> dict[str, dict[str, np.ndarray]]:
     """Train every row on the train split's actions (:func:`~jaxmotion.recipes.tables.fit_rows`, generators written
-    beside their checkpoints) and score them together on the test split's (Neural Marionette's columns; the Real
-    row last). Rows: context recipes (:class:`ContextRecipe`) and :class:`ContextFreeRecipe`."""
+    beside their checkpoints; ``lenders``: other tables' run folders whose finished rows it may resume) and score
+    them together on the test split's (Neural Marionette's columns; the Real row last). Rows: context recipes
+    (:class:`ContextRecipe`) and :class:`ContextFreeRecipe`."""
     train = load_dataset(table.dataset, "train", seed=table.seed, data_root=data_root, count=table.count)
     test = load_dataset(table.dataset, "test", seed=table.seed, data_root=data_root, count=table.count)
     actions = action_set(test, max_frames=table.protocol.max_frames, count=table.protocol.count)
     recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)  # before any row trains
-    generators = fit_rows(rows, train, train_key, workdir, mesh=mesh)
+    generators = fit_rows(rows, train, train_key, workdir, lenders, mesh=mesh)
     samplers = {name: action_sampler_of(generator) for name, generator in generators.items()}
     scored = evaluate_actions(eval_key, samplers, recognizer, actions, table.protocol)
     return paper_columns({**{name: scored[name] for name in samplers}, "Real": scored["Real"]}, MARIONETTE_COLUMNS,
@@ -315,12 +322,13 @@ def program_table(profile: str, sets: tuple[str, ...] = ("overall", "sufficient"
 
 
 def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, workdir: str | Path, train_key: jax.Array,
-                      eval_key: jax.Array, data_root: str | None = None, mesh=None
+                      eval_key: jax.Array, data_root: str | None = None, mesh=None,
+                      lenders: Sequence[str | Path] = ()
                       ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, dict[str, np.ndarray]]]]:
     """Train every row's recipe (:func:`~jaxmotion.recipes.tables.fit_rows`: rows that differ by their chain options
-    train once) and score the chains on each test set. Returns the table (columns ``"<metric> (O)"``, ``"<metric>
-    (S)"``: Acc, FID, Δpose, Δvel, then Motion QR, PJ, AUJ, Trans. FID) and the curves per set and
-    row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
+    train once; ``lenders`` as :func:`run_action_table`'s) and score the chains on each test set. Returns the table
+    (columns ``"<metric> (O)"``, ``"<metric> (S)"``: Acc, FID, Δpose, Δvel, then Motion QR, PJ, AUJ, Trans. FID) and
+    the curves per set and row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
     single = table.single
     train = load_dataset(single.dataset, "train", seed=single.seed, data_root=data_root, count=single.count)
     test = load_dataset(single.dataset, "test", seed=single.seed, data_root=data_root, count=single.count)
@@ -330,7 +338,8 @@ def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, work
     reviser = None
     if revising:
         reviser = recognizer if table.reviser is None else trained_recognizer(table.reviser, data_root=data_root)[0]
-    generators = fit_rows({name: row.recipe for name, row in rows.items()}, train, train_key, workdir, mesh=mesh)
+    generators = fit_rows({name: row.recipe for name, row in rows.items()}, train, train_key, workdir, lenders,
+                          mesh=mesh)
     chains = {name: functools.partial(chain_actions, generators[name], options=row.options, reviser=reviser,
                                       local_paths=True) for name, row in rows.items()}
     candidates = candidate_actions(recognizer, actions, table.protocol.confidence)

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import dataclasses
 import re
+import shutil
+import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
@@ -34,6 +36,7 @@ from jaxmotion.data import synthetic
 from jaxmotion.data.datasets import paper_dataset
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.distributed import is_primary
+from jaxmotion.files import read_json, write_json
 from jaxmotion.evaluation.protocol import ProtocolConfig, Sampler
 from jaxmotion.evaluation.recognizers import trained_recognizer
 from jaxmotion.evaluation.tables import (
@@ -101,26 +104,58 @@ def _written(generator: Generator, workdir: str | Path) -> Generator:
     return generator
 
 
+#: Each row folder's record of its fit (the recipe, a digest of the data, the key): what another table compares
+#: before it borrows the folder's checkpoints (:func:`fit_rows`' ``lenders``).
+FIT_RECORD = "fit.json"
+
+
 def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Array, workdir: str | Path,
-             **loop_options) -> dict[str, Generator]:
+             lenders: Sequence[str | Path] = (), **loop_options) -> dict[str, Generator]:
     """Train every row from the same ``key`` in ``<workdir>/<slug(row)>/`` and write each row's generator to
     ``<workdir>/<slug(row)>/generator/``; return the generators. Rows whose recipes share what determines the
-    fit (a recipe's ``fit_key``, else the recipe itself) train once, in the first such row's folder."""
+    fit (a recipe's ``fit_key``, else the recipe itself) train once, in the first such row's folder.
+
+    ``lenders``: run folders of other tables whose rows may be the same fits (Neural Marionette's tables train
+    Table 1's rows again). A row with no checkpoints of its own takes those of a finished row there (its generator
+    written) whose :data:`FIT_RECORD` is this row's (the same recipe, data and key), and resumes from their last
+    step: the same parameters as training it here, without the training. One process only."""
     folders = [slug(name) for name in rows]
     if len(set(folders)) != len(folders):
         raise ValueError(f"rows: names must give distinct folder names, got {list(rows)}")
     fitted: list[tuple[Any, Any]] = []  # (what determines a fit, its result)
     facts = DataFacts.of(data)
+    data_digest = data.digest()
     generators = {}
     for (name, row), folder in zip(rows.items(), folders):
         recipe = recipe_for(row)
         what = getattr(recipe, "fit_key", recipe)
         trained = next((result for known, result in fitted if known == what), None)
         if trained is None:
+            record = {"recipe": repr(what), "data": data_digest, "key": jax.random.key_data(key).tolist()}
+            lent = _borrow(record, Path(workdir) / folder, lenders)
+            if lent is not None:
+                print(f"[{name}] the same fit finished in {lent}: resuming from its checkpoints", file=sys.stderr)
+            if is_primary():
+                write_json(Path(workdir) / folder / FIT_RECORD, record)
             trained = recipe.fit(data, key, Path(workdir) / folder, **loop_options)
             fitted.append((what, trained))
         generators[name] = _written(recipe.generator(trained, facts), Path(workdir) / folder)
     return generators
+
+
+def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path | None:
+    """Copy into ``folder`` (which has no checkpoints) the checkpoints of a finished row of ``lenders`` whose fit
+    record is ``record``; return that row's folder, or None."""
+    if (folder / "checkpoints").exists() or jax.process_count() > 1:
+        return None
+    for lender in lenders:
+        for path in sorted(Path(lender).glob(f"*/{FIT_RECORD}")):
+            row = path.parent
+            if row.resolve() != folder.resolve() and (row / GENERATOR_FOLDER).is_dir() and (
+                    row / "checkpoints").is_dir() and read_json(path) == record:
+                shutil.copytree(row / "checkpoints", folder / "checkpoints")
+                return row
+    return None
 
 
 #: The cpu profile's protocol unless an experiment sizes its own: 5 repetitions of up to 1 000 motions.
