@@ -59,7 +59,8 @@ def test_every_row_trains_from_the_same_key_in_its_own_folder(tmp_path):
     assert [c[2] for c in fits] == [tmp_path / "w-o-tokens", tmp_path / "gru"]
     assert all(c[3] == {"mesh": "MESH"} for c in fits)
     # each row's generator is written beside its checkpoints
-    assert [c[1] for c in calls if c[0] == "saved"] == [tmp_path / "w-o-tokens" / "generator", tmp_path / "gru" / "generator"]
+    saved = [c[1] for c in calls if c[0] == "saved"]
+    assert saved == [tmp_path / "w-o-tokens" / "generator", tmp_path / "gru" / "generator"]
     assert generators["GRU"].sampler()(None, None, None) == {"params": 2, "skeleton": "SMPL-24"}
     with pytest.raises(ValueError, match="distinct folder names"):
         fit_rows({"a b": Recorder([], 0), "a-b": Recorder([], 0)}, Data(), key, tmp_path)
