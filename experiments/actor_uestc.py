@@ -54,14 +54,16 @@ class ActorUestcConfig(experiment.ProfileConfig):
     training: ActorTraining
     table: TableDataset  # synth-uestc, the UESTC ST-GCN evaluator, the protocol
     picture_actions: int = 6  # actions shown in generated.gif, 3 samples each
+    picture_frames: int = 60  # frames of each (a 3D GIF costs about 0.3 s per frame here)
 
     def __post_init__(self):
-        check_at_least(self, 1, "picture_actions")
+        check_at_least(self, 1, "picture_actions", "picture_frames")
 
     @classmethod
     def for_profile(cls, profile: str) -> ActorUestcConfig:
-        return cls(uestc_training(profile), table_dataset("UESTC", profile),
-                   picture_actions=1 if profile == "smoke" else 6)
+        smoke = profile == "smoke"
+        return cls(uestc_training(profile), table_dataset("UESTC", profile), picture_actions=1 if smoke else 6,
+                   picture_frames=20 if smoke else 60)
 
 
 def run(config: ActorUestcConfig, ctx: experiment.RunContext):
@@ -74,7 +76,7 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
                                     mesh=ctx.mesh))
     generated = generation_grid(samplers["ACTOR"], ctx.key("pictures"), train.skeleton,
                                 train.class_names, train.fps, min(config.picture_actions, train.num_classes),
-                                ctx.workdir / "generated.gif")
+                                ctx.workdir / "generated.gif", duration=config.picture_frames)
     ctx.export(generated)
     return {**rows, **REPORTED}
 

@@ -5,6 +5,7 @@ import shutil
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from experiments import (
     actor_ablation_batch,
@@ -43,7 +44,8 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_
     assert rows["ACTOR"]["FID_tr"]["n"] == actor_uestc.ActorUestcConfig.smoke().table.protocol.repetitions
     assert_generations_vary(rows, "ACTOR")
     assert_real_recognised(rows, "Acc. (%)", UESTC_CLASSES)
-    assert (folder / "generated.gif").stat().st_size > 0
+    with Image.open(folder / "generated.gif") as gif:  # the smoke's short clips, one picture per frame
+        assert gif.n_frames == actor_uestc.ActorUestcConfig.smoke().picture_frames
     assert json.loads((folder / "metrics.json").read_text()) == result
     assert [c["claim"] for c in result["claims"]] == [str(c) for c in actor_uestc.CLAIMS]
     assert all(c["verdict"] in ("holds", "does not hold", "inconclusive") for c in result["claims"])
