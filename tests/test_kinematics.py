@@ -31,6 +31,7 @@ from jaxmotion.geometry.kinematics import (
     library_to_humanact12_frame,
     root_relative,
     root_trajectory,
+    transform_ground_path,
     transform_root,
 )
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
@@ -416,3 +417,15 @@ def test_heading_normalisation_removes_the_ground_rotation_and_position_and_rest
     again_rotmats, again_translation, _ = _normalised(turned, np.asarray(turned_translation), frame)
     np.testing.assert_allclose(again_rotmats[:, 0], norm_rotmats[:, 0], atol=1e-4)
     np.testing.assert_allclose(again_translation, norm_translation, atol=1e-4)
+
+
+def test_a_ground_path_moves_with_the_transform_and_stays_on_the_ground():
+    # a quarter turn about +Y (x -> -z, z -> x), then 1 m along x: (1, 0) -> (0, -1) -> (1, -1); (0, 2) -> (3, 0)
+    path = np.array([[[1.0, 0.0], [0.0, 2.0]]], np.float32)  # [B, N, 2] (x, z)
+    moved = transform_ground_path(yaw(np.pi / 2)[None], np.array([[1.0, 0.5, 0.0]], np.float32), path)
+    np.testing.assert_allclose(moved, [[[1.0, -1.0], [3.0, 0.0]]], atol=1e-6)  # the height shift leaves the ground
+    lifted = np.stack([path[..., 0], np.zeros_like(path[..., 0]), path[..., 1]], -1)
+    rotation, shift = heading_transform(jit_axis_angle_to_matrix(np.array([[0.3, 1.1, -0.2]], np.float32)),
+                                        np.array([[0.4, 0.9, -1.3]], np.float32))
+    np.testing.assert_allclose(transform_ground_path(rotation, shift, path),
+                               np.asarray(apply_transform(rotation, shift, lifted))[..., [0, 2]], atol=1e-6)

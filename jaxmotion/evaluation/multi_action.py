@@ -41,7 +41,7 @@ import numpy as np
 from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.evaluation.actions import ActionSet
-from jaxmotion.geometry.kinematics import apply_transform, heading_transform
+from jaxmotion.geometry.kinematics import heading_transform, transform_ground_path
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.metrics.fid import fid
 from jaxmotion.metrics.smoothness import jerk_scores, mean_jerk, transition_jerk
@@ -147,9 +147,7 @@ def _programs(actions: ActionSet, picks: np.ndarray) -> TestPrograms:
     tags = np.asarray(c["tags"])[picks]
     turn, shift = heading_transform(axis_angle_to_matrix(jnp.asarray(c["context_rotations"][:, -1, 0])),
                                     jnp.asarray(c["context_translation"][:, -1]))
-    paths = np.asarray(c["paths"])
-    ground = np.stack([paths[..., 0], np.zeros_like(paths[..., 0]), paths[..., 1]], axis=-1)
-    local = np.asarray(apply_transform(turn, shift, jnp.asarray(ground)))[..., [0, 2]]  # in each one's start frame
+    local = np.asarray(transform_ground_path(turn, shift, c["paths"]))  # in each one's start frame
     conditions = {"context_rotations": c["context_rotations"][picks[:, 0]],
                   "context_translation": c["context_translation"][picks[:, 0]],
                   "tags": tags, "next_tags": np.concatenate([tags[:, 1:], tags[:, -1:]], axis=1),

@@ -314,6 +314,14 @@ def apply_transform(rotation: jax.Array, translation: jax.Array, points: jax.Arr
     return moved + jnp.asarray(translation)[..., None, :]
 
 
+def transform_ground_path(rotation: jax.Array, translation: jax.Array, path: jax.Array) -> jax.Array:
+    """Ground points ``path [..., N, 2]`` (x, z at y = 0) mapped by ``x -> R x + t`` (``R [..., 3, 3]`` about +Y,
+    ``t [..., 3]``, e.g. :func:`heading_transform`'s) and read back on the ground: ``[..., N, 2]``."""
+    path = jnp.asarray(path)
+    ground = jnp.stack([path[..., 0], jnp.zeros_like(path[..., 0]), path[..., 1]], axis=-1)
+    return apply_transform(rotation, translation, ground)[..., jnp.array([0, 2])]
+
+
 def library_to_humanact12_frame(points: jax.Array) -> jax.Array:
     """Library frame (+Y up, facing +Z) to the HumanAct12 / Action2Motion joint frame (y down, facing -Z).
 

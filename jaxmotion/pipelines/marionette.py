@@ -34,7 +34,7 @@ from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.motion import MotionDataset
 from jaxmotion.data.segments import label_transitions
 from jaxmotion.geometry.kinematics import (apply_transform, forward_kinematics, heading_transform, inverse_transform,
-                                          transform_motion)
+                                          transform_ground_path, transform_motion)
 from jaxmotion.geometry.representations import from_pose135
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import SMPL24
@@ -86,8 +86,7 @@ def continue_in_world(params: Any, config: Any, rotations: jax.Array, translatio
     [B, d]`` (Shadow Start: :mod:`jaxmotion.pipelines.multi_action`)."""
     context, turn, shift = marionet.normalised_poses(rotations, translation, -1)
     if not local_paths:
-        ground = jnp.stack([paths[..., 0], jnp.zeros_like(paths[..., 0]), paths[..., 1]], axis=-1)  # [B, T, 3]
-        paths = apply_transform(turn, shift, ground)[..., jnp.array([0, 2])]
+        paths = transform_ground_path(turn, shift, paths)
     paths = jnp.where((mask & follow[:, None])[..., None], paths, 0.0)  # no path: zeros, as in training
     if start is None:
         poses = context_model(config).continue_(params, config, context, tags, next_tags, paths, mask, key)
