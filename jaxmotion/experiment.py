@@ -81,8 +81,9 @@ class RunContext:
 
     def runs(self, *experiments: str) -> tuple[Path, ...]:
         """The run folders of other ``experiments`` with this run's profile and seed under the same ``--out``
-        (whether they exist or not)."""
-        return tuple(self.workdir.parents[2] / name / self.profile / self.workdir.name for name in experiments)
+        (whether they exist or not); ``workdir`` is this run's :func:`seed_folder`."""
+        out = self.workdir.parents[2]
+        return tuple(seed_folder(out, name, self.profile, self.seed) for name in experiments)
 
     def key(self, stream: str) -> jax.Array:
         """An independent PRNG key per named stream (``"init"``, ``"train"``, ``"eval"``, ...).
@@ -190,6 +191,11 @@ def run_sweep(config: Sweep | Variants, ctx: RunContext) -> Rows:
                      **({} if columns is None else {"columns": columns}))
 
 
+def seed_folder(out: str | Path, experiment: str, profile: str, seed: int) -> Path:
+    """Where one seed of ``experiment`` in ``profile`` runs: ``<out>/<experiment>/<profile>/seed-<n>/``."""
+    return Path(out) / experiment / profile / f"seed-{seed}"
+
+
 RunFn = Callable[[Any, RunContext], Rows]
 
 
@@ -197,7 +203,7 @@ def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, 
              data_root: str | None = None, claims: Sequence[Claim] = (), export_formats: Sequence[str] = (),
              devices: int | None = None) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
-    ctx = RunContext(name, profile, seed, Path(out) / name / profile / f"seed-{seed}", data_root,
+    ctx = RunContext(name, profile, seed, seed_folder(out, name, profile, seed), data_root,
                      tuple(export_formats), devices)
     with (folder_lock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
         return _run_locked(ctx, config, run_fn, claims)

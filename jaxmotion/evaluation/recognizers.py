@@ -54,7 +54,7 @@ from jaxmotion.progress import phase
 from jaxmotion.train.checkpoint import Checkpointer
 from jaxmotion.distributed import is_primary
 from jaxmotion.train.fit import fit
-from jaxmotion.train.loop import LoopConfig
+from jaxmotion.train.loop import CHECKPOINT_FOLDER, LoopConfig
 from jaxmotion.train.state import TrainState
 
 
@@ -349,7 +349,7 @@ def trained_recognizer(spec: RecognizerTraining, *, cache_dir: str | Path | None
             # shapes only: initialising the network eagerly took 10 s of a smoke run's silent start
             like = jax.eval_shape(lambda: _initial_state(spec, jax.random.key(0), skeleton, len(record["class_names"]),
                                                          persons))
-            with Checkpointer(folder / "checkpoints") as ckpt:
+            with Checkpointer(folder / CHECKPOINT_FOLDER) as ckpt:
                 state = ckpt.restore(like)
             _note_used(spec, folder, record)
             return _recognizer(spec, skeleton, record["class_names"], state), record

@@ -196,6 +196,7 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
                          f"[{batch}, {CONTEXT}, 3], got {list(rotations.shape)} and {list(translation.shape)}")
     bank = generator.starts
     # the bank's embeddings once per call, not at every action step
+    # (a chain that never shadows never reads them: the poses stand in, unembedded)
     embedded = _embedded_bank(generator.params, jnp.asarray(bank.bops)) if shadowing else jnp.asarray(bank.bops)
     step = functools.partial(_action_step, generator.params, generator.model, embedded,
                              jnp.asarray(bank.bop_labels), local_paths=local_paths, options=options)

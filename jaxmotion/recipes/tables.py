@@ -59,6 +59,7 @@ from jaxmotion.recipes.odmo import ODMORecipe
 from jaxmotion.train.a2m import A2MTraining
 from jaxmotion.train.actformer import ActFormerTraining
 from jaxmotion.train.actor import ActorTraining
+from jaxmotion.train.loop import CHECKPOINT_FOLDER
 
 GENERATOR_FOLDER = "generator"
 
@@ -146,14 +147,14 @@ def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Arr
 def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path | None:
     """Copy into ``folder`` (which has no checkpoints) the checkpoints of a finished row of ``lenders`` whose fit
     record is ``record``; return that row's folder, or None."""
-    if (folder / "checkpoints").exists() or jax.process_count() > 1:
+    if (folder / CHECKPOINT_FOLDER).exists() or jax.process_count() > 1:
         return None
     for lender in lenders:
         for path in sorted(Path(lender).glob(f"*/{FIT_RECORD}")):
             row = path.parent
             if row.resolve() != folder.resolve() and (row / GENERATOR_FOLDER).is_dir() and (
-                    row / "checkpoints").is_dir() and read_json(path) == record:
-                shutil.copytree(row / "checkpoints", folder / "checkpoints")
+                    row / CHECKPOINT_FOLDER).is_dir() and read_json(path) == record:
+                shutil.copytree(row / CHECKPOINT_FOLDER, folder / CHECKPOINT_FOLDER)
                 return row
     return None
 

@@ -50,6 +50,9 @@ from jaxmotion.train.checkpoint import Checkpointer, CheckpointsDamaged
 from jaxmotion.distributed import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
 
+#: A training folder's checkpoints live in ``<workdir>/CHECKPOINT_FOLDER/`` (orbax, one folder per step).
+CHECKPOINT_FOLDER = "checkpoints"
+
 
 class StepFn(Protocol):
     def __call__(self, state: Any, batch: Any, key: jax.Array) -> tuple[Any, Mapping[str, jax.Array]]: ...
@@ -108,7 +111,7 @@ def train(
 
 
 def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_from, eval_fn):
-    ckpt = Checkpointer(workdir / "checkpoints", max_to_keep=config.keep_checkpoints) if workdir else None
+    ckpt = Checkpointer(workdir / CHECKPOINT_FOLDER, max_to_keep=config.keep_checkpoints) if workdir else None
     primary = is_primary()
     log_path = workdir / "metrics.jsonl" if workdir and primary else None
     try:
@@ -174,8 +177,8 @@ def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_
 def _restore_from(init_from: str | Path, like: Any) -> Any:
     """The latest checkpoint of another run (its folder or its ``checkpoints/``), into ``like``'s form."""
     folder = Path(init_from)
-    if (folder / "checkpoints").is_dir():
-        folder = folder / "checkpoints"
+    if (folder / CHECKPOINT_FOLDER).is_dir():
+        folder = folder / CHECKPOINT_FOLDER
     if not folder.is_dir():
         raise FileNotFoundError(f"init_from: {init_from} is not a folder")
     source = Checkpointer(folder, read_only=True)
