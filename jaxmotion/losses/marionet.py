@@ -61,16 +61,17 @@ def reconstruction(prediction: jax.Array, target: jax.Array, mask: jax.Array, we
     return sum(getattr(weights, name) * value for name, value in terms.items()), terms
 
 
-def marionet_loss(first: jax.Array, second: jax.Array | None, target: jax.Array, mask: jax.Array, mu: jax.Array,
-                  log_variance: jax.Array, *, weights: MarionetLossWeights, skeleton: Skeleton,
-                  first_weight: float | jax.Array = 1.0, second_weight: float | jax.Array = 0.0
+def marionet_loss(first: jax.Array, second: tuple[jax.Array, dict[str, jax.Array]] | None, target: jax.Array,
+                  mask: jax.Array, mu: jax.Array, log_variance: jax.Array, *, weights: MarionetLossWeights,
+                  skeleton: Skeleton, first_weight: float | jax.Array = 1.0, second_weight: float | jax.Array = 0.0
                   ) -> tuple[jax.Array, dict[str, jax.Array]]:
-    """Eq. 2: the teacher-forced pass ``first`` and the scheduled-sampling pass ``second`` (None: none) against
-    ``target [B, T, 135]``, plus the KL of ``mu``, ``log_variance [B, d]`` -> ``(loss, {term: value})``."""
+    """Eq. 2: the teacher-forced pass ``first`` against ``target [B, T, 135]`` over ``mask [B, T]``, the
+    scheduled-sampling pass's :func:`reconstruction` ``second`` (None: none; the trainer runs it only when it
+    weighs), plus the KL of ``mu``, ``log_variance [B, d]`` -> ``(loss, {term: value})``."""
     total, terms = reconstruction(first, target, mask, weights, skeleton)
     total = first_weight * total
     if second is not None:
-        again, second_terms = reconstruction(second, target, mask, weights, skeleton)
+        again, second_terms = second
         total = total + second_weight * again
         terms.update({f"{name} (second pass)": value for name, value in second_terms.items()})
     terms["kl"] = kl_to_standard_normal(mu, log_variance)

@@ -10,8 +10,9 @@ root-motion tag, zeros for the others (as the paper feeds in-place actions).
 decoder (the same Z and controls) reads, at each frame after the first, the predicted pose of P' with probability
 xi and the true one otherwise; xi rises linearly from 0 to 1 between the ``activate`` and ``accomplish`` fractions
 of training (the paper's epochs 250 and 750 of 1,000). While it is on, the passes weigh lambda_1 = 0.1 and
-lambda_2 = 0.9, else 1 and 0 (``scheduled_sampling=False``, Table 2's ablation, runs no second pass: it would weigh
-0). Where the paper is silent: frames are mixed independently (one Bernoulli draw each); the predicted poses enter
+lambda_2 = 0.9, else 1 and 0, and a second pass that would weigh 0 is not run (``jax.lax.cond``: before
+``activate`` and while the gate is shut, the step costs what teacher forcing alone does; ``scheduled_sampling=False``,
+Table 2's ablation, never runs it). Where the paper is silent: frames are mixed independently (one Bernoulli draw each); the predicted poses enter
 the second pass without gradient; the "close enough" gate turns the second pass on for a batch only while the first
 pass's squared error (over real frames and numbers, as the loss's rotation term) is below ``gate``
 (:class:`MarionetTraining`).
@@ -35,7 +36,7 @@ from jaxmotion.data.pipeline import action_item_batches
 from jaxmotion.geometry.representations import POSE135_SIZE
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.losses.core import masked_mse
-from jaxmotion.losses.marionet import MarionetLossWeights, marionet_loss
+from jaxmotion.losses.marionet import MarionetLossWeights, marionet_loss, reconstruction
 from jaxmotion.models.marionet import (CONTEXT, MarionetConfig, MarionetParams, decode, forward, init_marionet,
                                        normalised_poses)
 from jaxmotion.train.fit import fit
@@ -114,15 +115,23 @@ def marionet_step(training: MarionetTraining, root_tags: np.ndarray):
                                      weights=training.losses, skeleton=SMPL24)
             close = jax.lax.stop_gradient(masked_mse(first.poses, x["target"], x["mask"])) < training.gate
             use = on & close
-            predicted = jax.lax.stop_gradient(first.poses[:, :-1])
-            mixed = jnp.where(jax.random.bernoulli(k_mix, share, predicted.shape[:2])[..., None], predicted,
-                              x["target"][:, :-1])
-            previous = jnp.concatenate([x["context"][:, -1:], mixed], axis=1)
-            second = decode(params, config, first.controls, previous, x["mask"], k_second)
+
+            def second_pass(params: MarionetParams):
+                predicted = jax.lax.stop_gradient(first.poses[:, :-1])
+                mixed = jnp.where(jax.random.bernoulli(k_mix, share, predicted.shape[:2])[..., None], predicted,
+                                  x["target"][:, :-1])
+                previous = jnp.concatenate([x["context"][:, -1:], mixed], axis=1)
+                second = decode(params, config, first.controls, previous, x["mask"], k_second)
+                return reconstruction(second, x["target"], x["mask"], training.losses, SMPL24)
+
+            # a pass that weighs nothing is not run (a quarter of training and more, before the gate opens); its
+            # terms then log as zeros, and "second pass" as the share of logged steps that ran it
+            second = jax.lax.cond(use, second_pass, lambda p: jax.tree.map(
+                jnp.zeros_like, jax.eval_shape(second_pass, p)), params)
             loss, terms = marionet_loss(first.poses, second, x["target"], x["mask"], first.mu, first.log_variance,
                                         weights=training.losses, skeleton=SMPL24,
-                                        first_weight=jnp.where(use, 0.1, 1.0), second_weight=jnp.where(use, 0.9, 0.0))
-            return loss, {**terms, "sampled share": share * use}
+                                        first_weight=jnp.where(use, 0.1, 1.0), second_weight=0.9)
+            return loss, {**terms, "second pass": use.astype(loss.dtype), "sampled share": share * use}
 
         (_, terms), grads = jax.value_and_grad(loss_fn, has_aux=True)(state.params)
         return state.apply_gradients(grads), terms
