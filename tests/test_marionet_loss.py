@@ -58,8 +58,8 @@ def test_the_second_pass_and_the_kl_enter_with_their_weights():
     recon_first, _ = reconstruction(first, target, mask, WEIGHTS, SMPL24)
     recon_second, second_terms = reconstruction(second, target, mask, WEIGHTS, SMPL24)
     loss, terms = jax.jit(lambda *a: marionet_loss(*a, weights=WEIGHTS, skeleton=SMPL24, first_weight=0.1,
-                                                   second_weight=0.9))(first, (recon_second, second_terms), target, mask, mu,
-                                                                       log_variance)
+                                                   second_weight=0.9))(first, (recon_second, second_terms), target,
+                                                                       mask, mu, log_variance)
     np.testing.assert_allclose(terms["kl"], 0.5 * 16)  # sum of mu²/2 over 2 x 8
     np.testing.assert_allclose(loss, 0.1 * recon_first + 0.9 * recon_second + 1e-8 * 8.0, rtol=1e-6)
     np.testing.assert_allclose(terms["joints (second pass)"], second_terms["joints"])

@@ -8,11 +8,13 @@ import pytest
 from jaxmotion.data import Motion, pack
 from jaxmotion.data.pipeline import (
     BatchSpec,
+    BucketedEpochOrder,
     EpochOrder,
     PairSpec,
     class_members,
     draw_partners,
     canonicalize_motion,
+    length_buckets,
     make_batch_fn,
     random_lengths,
     sequence_weights,
@@ -84,6 +86,49 @@ def test_epoch_sampling_visits_every_sequence_once_per_epoch(batch_size):
     assert not np.array_equal(ids[:n], ids[n:2 * n])  # a fresh order each epoch
     again = EpochOrder(jax.random.key(1), n, batch_size)
     np.testing.assert_array_equal(again(steps - 1), order(steps - 1))  # a function of (key, step) only
+
+
+def test_length_buckets_split_at_quantiles_and_never_split_equal_lengths():
+    bucket_of, longest = length_buckets(np.array([5, 1, 9, 3, 7, 3, 2, 8]), 4)
+    np.testing.assert_array_equal(longest, [2, 3, 7, 9])
+    np.testing.assert_array_equal(bucket_of, [2, 0, 3, 1, 2, 1, 0, 3])
+    np.testing.assert_array_equal(length_buckets(np.array([4, 4, 4, 6]), 3)[1], [4, 6])  # ties: fewer buckets
+
+
+def test_bucketed_epochs_visit_every_sequence_with_one_bucket_per_batch():
+    bucket_of = np.array([0, 1, 0, 2, 1, 0, 2, 0, 1, 0])  # buckets of 5, 3 and 2 sequences
+    order = BucketedEpochOrder(jax.random.key(4), bucket_of, batch_size=2)
+    assert order.per_epoch == 3 + 2 + 1
+    epochs = [[order(e * order.per_epoch + i) for i in range(order.per_epoch)] for e in range(2)]
+    for batches in epochs:
+        ids = np.concatenate([batch for batch, _ in batches])
+        assert set(ids) == set(range(10)) and len(ids) == 12  # the last batches of buckets 0 and 1 are filled up
+        assert all((bucket_of[batch] == bucket).all() for batch, bucket in batches)
+    assert any(not np.array_equal(x, y) for (x, _), (y, _) in zip(*epochs))  # a fresh order each epoch
+    again = BucketedEpochOrder(jax.random.key(4), bucket_of, batch_size=2)
+    np.testing.assert_array_equal(again(7)[0], order(7)[0])  # a function of (key, step) only
+
+
+def test_bucketed_batches_are_padded_to_their_buckets_longest(dataset):
+    """LENGTHS 30 12 50 7 41 25 in 3 buckets: (7, 12), (25, 30), (41, 50 cropped to the window 45)."""
+    spec = BatchSpec(batch_size=2, window=45, canonical=False, buckets=3)
+    batch_fn = make_batch_fn(dataset, jax.random.key(0), spec)
+    plain = make_batch_fn(dataset, jax.random.key(0), BatchSpec(batch_size=2, window=45, canonical=False))
+    windows = {}
+    for step in range(6):
+        batch = batch_fn(step)
+        lengths = tuple(sorted(np.asarray(batch["lengths"]).tolist()))
+        windows[lengths] = batch["mask"].shape[1]
+        for b in range(2):  # the sequence itself up to its length, then its last frame
+            seq = dataset[int(batch["subjects"][b])]
+            real = int(batch["lengths"][b])
+            assert int(batch["mask"][b].sum()) == real == min(seq.num_frames, 45)
+        assert batch.keys() == plain(step).keys()
+    assert windows == {(7, 12): 12, (25, 30): 30, (41, 45): 45}
+    with pytest.raises(ValueError, match="buckets: 3 length buckets batch whole sequences by epoch"):
+        BatchSpec(batch_size=2, window=45, buckets=3, min_length=10)
+    with pytest.raises(ValueError, match="PairSpec.batch.buckets"):
+        make_batch_fn(dataset, jax.random.key(0), PairSpec(BatchSpec(batch_size=2, window=45, buckets=3)))
 
 
 def test_batches_have_static_shapes_and_are_deterministic(dataset):

@@ -93,6 +93,48 @@ class EpochOrder:
         return np.where(epoch == first, this[offset], following[offset]).astype(np.int32)
 
 
+class BucketedEpochOrder:
+    """Sequence indices ``[B]`` and the length bucket of batch ``step`` when every batch draws from one bucket of
+    similar lengths (:class:`BatchSpec` ``buckets``), so it is padded to that bucket's longest, not the data's.
+
+    Epoch ``e`` visits each sequence once: each bucket's members in the order of a permutation drawn from
+    ``fold_in(fold_in(key, e), b)``, cut into batches (a bucket's last batch is filled up from the start of its
+    order, so a few sequences come twice), and the epoch's batches in the order of a permutation drawn from
+    ``fold_in(key, e)``. Every epoch has the same number of batches; the indices depend only on ``(key, step)``
+    (the last two epochs are memoised on the host).
+    """
+
+    def __init__(self, key: jax.Array, bucket_of: np.ndarray, batch_size: int):
+        self.key, self.batch_size = key, batch_size
+        self.members = [np.flatnonzero(bucket_of == b) for b in range(int(bucket_of.max()) + 1)]
+        self.per_epoch = sum(-(-len(m) // batch_size) for m in self.members)
+        self._epoch = functools.lru_cache(maxsize=2)(self._draw)
+
+    def _draw(self, epoch: int) -> tuple[np.ndarray, np.ndarray]:
+        key = jax.random.fold_in(self.key, epoch)
+        batches, buckets = [], []
+        for b, members in enumerate(self.members):
+            order = members[np.asarray(jax.random.permutation(jax.random.fold_in(key, b), len(members)))]
+            count = -(-len(order) // self.batch_size)
+            batches.append(np.resize(order, count * self.batch_size).reshape(count, self.batch_size))
+            buckets.append(np.full(count, b))
+        shuffle = np.asarray(jax.random.permutation(key, self.per_epoch))
+        return np.concatenate(batches)[shuffle].astype(np.int32), np.concatenate(buckets)[shuffle]
+
+    def __call__(self, step: int) -> tuple[np.ndarray, int]:
+        ids, buckets = self._epoch(int(step) // self.per_epoch)
+        return ids[int(step) % self.per_epoch], int(buckets[int(step) % self.per_epoch])
+
+
+def length_buckets(lengths: np.ndarray, buckets: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sequences of ``lengths [N]`` in at most ``buckets`` groups of about equal counts by length (the groups'
+    bounds at the quantiles; equal lengths never split) -> ``(bucket of each [N], each bucket's longest [K])``."""
+    ordered = np.sort(lengths)
+    bounds = np.unique(ordered[np.ceil(np.arange(1, buckets + 1) * len(ordered) / buckets).astype(int) - 1])
+    bucket_of = np.searchsorted(bounds, lengths)
+    return bucket_of, bounds
+
+
 # --- which frames ----------------------------------------------------------------------------------
 
 
@@ -193,7 +235,10 @@ class BatchSpec:
     segment of ``min(n, window)`` frames. ``canonical``: root of frame 0 at the origin facing +Z;
     otherwise only the root of frame 0 at the origin (Action2Motion, ODMO), or with ``in_place`` the windows where
     they are (Neural Marionette's action items, normalised later at their last context frame). ``permute_persons``:
-    each window's persons in a random order (datasets of several persons only).
+    each window's persons in a random order (datasets of several persons only). ``buckets``: with more than 1,
+    each batch holds sequences of similar lengths, padded to the longest of its length bucket instead of ``window``
+    (:class:`BucketedEpochOrder`; ``epoch`` sampling of whole sequences): batches of short actions cost what they
+    hold, at one compilation of the training step per bucket.
     """
 
     batch_size: int
@@ -204,9 +249,14 @@ class BatchSpec:
     canonical: bool = True
     permute_persons: bool = False
     in_place: bool = False
+    buckets: int = 1
 
     def __post_init__(self):
-        check_at_least(self, 1, "batch_size", "window")
+        check_at_least(self, 1, "batch_size", "window", "buckets")
+        if self.buckets > 1 and (self.sampling != "epoch" or self.min_length is not None):
+            raise ValueError(f"BatchSpec.buckets: {self.buckets} length buckets batch whole sequences by epoch; "
+                             f"expected sampling='epoch' and no min_length, got {self.sampling!r}, "
+                             f"{self.min_length}")
         if self.canonical and self.in_place:
             raise ValueError("BatchSpec.in_place: leaves the windows where they are; set canonical=False too")
         if self.min_length is not None and not 1 <= self.min_length <= self.window:
@@ -352,8 +402,15 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
                          f"most {longest}")
     hips = tables.pop("hips")
     members = class_members(dataset.actions, dataset.num_classes) if pairs is not None else None
+    if pairs is not None and spec.buckets > 1:
+        raise ValueError("PairSpec.batch.buckets: pairs are drawn with one window; expected 1 bucket")
     order_key, step_key = jax.random.split(key)  # epoch orders are per epoch, not per step
-    epoch_order = EpochOrder(order_key, len(dataset), spec.batch_size) if spec.sampling == "epoch" else None
+    if spec.buckets > 1:
+        bucket_of, longest_of = length_buckets(np.minimum(dataset.lengths, spec.window), spec.buckets)
+        epoch_order = BucketedEpochOrder(order_key, bucket_of, spec.batch_size)
+        specs = [dataclasses.replace(spec, window=int(w), buckets=1) for w in longest_of]
+    else:
+        epoch_order = EpochOrder(order_key, len(dataset), spec.batch_size) if spec.sampling == "epoch" else None
 
     @jax.jit
     def draw_ids(weights, step):
@@ -365,9 +422,14 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
 
     def batch(step):
         # ids and windows use independent keys folded from the step key
-        ids = jnp.asarray(epoch_order(step) if epoch_order is not None else draw_ids(tables["weights"], step))
+        if spec.buckets > 1:
+            ids, bucket = epoch_order(step)
+            ids, window_spec = jnp.asarray(ids), specs[bucket]
+        else:
+            ids = jnp.asarray(epoch_order(step) if epoch_order is not None else draw_ids(tables["weights"], step))
+            window_spec = spec
         step_stream = jax.random.fold_in(step_key, step)
-        first = _gather(tables, ids, jax.random.fold_in(step_stream, 1), spec, hips)
+        first = _gather(tables, ids, jax.random.fold_in(step_stream, 1), window_spec, hips)
         if pairs is None:
             return first
         k_pick, k_windows = jax.random.split(jax.random.fold_in(step_stream, 2))
@@ -377,19 +439,20 @@ def make_batch_fn(dataset: MotionDataset, key: jax.Array, spec: BatchSpec | Pair
     return batch
 
 
-def action_item_batches(items: ActionItems, batch_size: int, *, sampling: Sampling = "epoch"
+def action_item_batches(items: ActionItems, batch_size: int, *, sampling: Sampling = "epoch", buckets: int = 1
                         ) -> tuple[BatchSpec, dict[str, np.ndarray]]:
     """What makes :func:`make_batch_fn` batch whole action items (:meth:`MotionDataset.action_items`), as Neural
     Marionette trains on them: ``make_batch_fn(items.data, key, *action_item_batches(items, batch_size))`` gives
     ``joints``, ``translation``, ``rotations`` ``[B, K + T, ...]`` (the K context frames, then the action, padded
     after its end with its last frame to the longest item's length), ``mask [B, K + T]``, ``lengths [B]`` (K + the
-    action's frames), ``tags``, ``next_tags`` ``[B, C]`` bool and ``durations [B]`` (the action's frames). Items stay
+    action's frames), ``tags``, ``next_tags`` ``[B, C]`` bool and ``durations [B]`` (the action's frames); with
+    ``buckets`` > 1, items of similar lengths padded to the longest of their bucket (:class:`BatchSpec`). Items stay
     where they are in their take (the floor at y = 0): Marionette normalises at the last context frame itself
     (:func:`~jaxmotion.geometry.kinematics.heading_transform`)."""
     if len(items) == 0:
         raise ValueError(f"items: {items.data.name}/{items.data.split} has no action items to batch")
     spec = BatchSpec(batch_size=batch_size, window=int(items.data.lengths.max()), sampling=sampling,
-                     canonical=False, in_place=True)
+                     canonical=False, in_place=True, buckets=buckets)
     return spec, {"tags": items.tags, "next_tags": items.next_tags, "durations": items.durations.astype(np.int32)}
 
 

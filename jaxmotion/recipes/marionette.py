@@ -141,6 +141,9 @@ _SMOKE_LOOP = LoopConfig(2, log_every=1, checkpoint_every=0)
 #: Every row's steps in the cpu profile (batch 30: 7 epochs of synth-mag's actions), so the rows see the same data.
 CPU_STEPS = 1500
 CPU_LOOP = LoopConfig(CPU_STEPS, log_every=100, checkpoint_every=500)
+#: The cpu and paper profiles' batches of similar durations (MarionetTraining.length_buckets), for every row
+#: trained on action items.
+LENGTH_BUCKETS = 4
 
 
 def marionet_training(profile: str, **switches) -> MarionetTraining:
@@ -161,11 +164,12 @@ def marionet_training(profile: str, **switches) -> MarionetTraining:
                                 scheduled_sampling=scheduled)
     if profile == "cpu":
         model = MarionetConfig(width=64, heads=4, ff=256, decoder_layers=2, path_width=16, **switches)
-        return MarionetTraining(model, CPU_LOOP, learning_rate=1e-3, scheduled_sampling=scheduled)
+        return MarionetTraining(model, CPU_LOOP, learning_rate=1e-3, scheduled_sampling=scheduled,
+                                length_buckets=LENGTH_BUCKETS)
     if profile == "paper":
         return MarionetTraining(MarionetConfig(**switches), LoopConfig(PAPER_STEPS, log_every=100,
                                                                        checkpoint_every=5000),
-                                scheduled_sampling=scheduled)
+                                scheduled_sampling=scheduled, length_buckets=LENGTH_BUCKETS)
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
 
 
@@ -176,9 +180,11 @@ def mann_training(profile: str) -> MannTraining:
     if profile == "smoke":
         return MannTraining(MannConfig.tiny(dropout=0.0), _SMOKE_LOOP, batch_size=8)
     if profile == "cpu":
-        return MannTraining(MannConfig(experts=4, hidden=256), CPU_LOOP, learning_rate=3e-4)
+        return MannTraining(MannConfig(experts=4, hidden=256), CPU_LOOP, learning_rate=3e-4,
+                            length_buckets=LENGTH_BUCKETS)
     if profile == "paper":
-        return MannTraining(MannConfig(), LoopConfig(PAPER_STEPS, log_every=100, checkpoint_every=5000))
+        return MannTraining(MannConfig(), LoopConfig(PAPER_STEPS, log_every=100, checkpoint_every=5000),
+                            length_buckets=LENGTH_BUCKETS)
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
 
 
@@ -191,9 +197,9 @@ def a2m_training(profile: str) -> A2MActionTraining:
         model = dataclasses.replace(base.model, hidden=8, latent=4, decoder_layers=1)
         return A2MActionTraining(model, _SMOKE_LOOP, batch_size=8)
     if profile == "cpu":
-        return A2MActionTraining(base.model, CPU_LOOP, batch_size=30)
+        return A2MActionTraining(base.model, CPU_LOOP, batch_size=30, length_buckets=LENGTH_BUCKETS)
     if profile == "paper":
-        return base
+        return dataclasses.replace(base, length_buckets=LENGTH_BUCKETS)
     raise ValueError(f"profile: expected smoke, cpu or paper, got {profile!r}")
 
 

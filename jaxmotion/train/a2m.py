@@ -130,7 +130,9 @@ class A2MActionTraining:
     runs' HumanAct12 value (6D, like the Lie parameters, is a rotation representation of numbers about 1; the xyz
     runs' 1e-4 is for metres). ``optimizer``: A2M's Adam. ``batch_size``: A2M's own 128 (the baseline keeps its
     recipe except for the paper's two changes; MARIONET's is 30). ``max_frames``: actions longer than this are
-    left out of training, as MARIONET's 120. ``loop``: A2M's 50k steps (the paper's), as :class:`A2MTraining`.
+    left out of training, as MARIONET's 120; ``length_buckets`` as MARIONET's
+    (:class:`~jaxmotion.train.marionet.MarionetTraining`). ``loop``: A2M's 50k steps (the paper's), as
+    :class:`A2MTraining`.
     """
 
     model: A2MVAEConfig = A2MVAEConfig(pose_dim=POSE135_SIZE, num_classes=len(TAGS), kl_weight=1e-3)
@@ -138,9 +140,10 @@ class A2MActionTraining:
     optimizer: A2MOptimizer = A2MOptimizer()
     batch_size: int = 128
     max_frames: int = 120
+    length_buckets: int = 1
 
     def __post_init__(self):
-        check_at_least(self, 1, "batch_size", "max_frames")
+        check_at_least(self, 1, "batch_size", "max_frames", "length_buckets")
         if self.model.pose_dim != POSE135_SIZE:
             raise ValueError(f"A2MActionTraining.model: expected pose_dim {POSE135_SIZE} (MARIONET's pose: 22 "
                              f"joints' 6D rotations + the root translation), got {self.model.pose_dim}")
@@ -155,7 +158,8 @@ def train_a2m_actions(data: MotionDataset, training: A2MActionTraining, key: jax
         raise ValueError(f"A2MActionTraining.model.num_classes: {training.model.num_classes}, but {data.name} has "
                          f"{data.num_classes} tags")
     state = fit_action_items(data, key, num_tags=training.model.num_classes, batch_size=training.batch_size,
-                             max_frames=training.max_frames, init_state=lambda k: a2m_state(training, k),
+                             max_frames=training.max_frames, length_buckets=training.length_buckets,
+                             init_state=lambda k: a2m_state(training, k),
                              step_fn=a2m_actions_step(training.model, root_tag_mask(data.class_names)),
                              loop=training.loop, workdir=workdir, progress=progress, **loop_options)
     return state.params

@@ -35,7 +35,9 @@ from jaxmotion.train.state import TrainState
 @dataclasses.dataclass(frozen=True)
 class MannTraining:
     """How MANN is trained: Adam ``learning_rate`` (1e-4) on batches of ``batch_size`` (30) action items of at most
-    ``max_frames`` (120) frames, teacher forced, the loss weights ``losses`` (MARIONET's; ``kl`` unused)."""
+    ``max_frames`` (120) frames in ``length_buckets`` groups of similar durations (as MARIONET's
+    :class:`~jaxmotion.train.marionet.MarionetTraining`), teacher forced, the loss weights ``losses`` (MARIONET's;
+    ``kl`` unused)."""
 
     model: MannConfig
     loop: LoopConfig
@@ -43,9 +45,10 @@ class MannTraining:
     batch_size: int = 30
     learning_rate: float = 1e-4
     max_frames: int = 120
+    length_buckets: int = 1
 
     def __post_init__(self):
-        check_at_least(self, 1, "batch_size", "max_frames")
+        check_at_least(self, 1, "batch_size", "max_frames", "length_buckets")
         if not self.learning_rate > 0:
             raise ValueError(f"MannTraining.learning_rate: expected a positive value, got {self.learning_rate}")
 
@@ -80,7 +83,8 @@ def train_mann(data: MotionDataset, training: MannTraining, key: jax.Array, work
     :func:`~jaxmotion.train.marionet.fit_action_items`), resuming from ``workdir``'s checkpoints; returns the
     parameters. ``loop_options``: the loop's ``mesh``, ``init_from``, ``eval_fn``."""
     state = fit_action_items(data, key, num_tags=training.model.num_tags, batch_size=training.batch_size,
-                             max_frames=training.max_frames, init_state=lambda k: mann_state(training, k),
+                             max_frames=training.max_frames, length_buckets=training.length_buckets,
+                             init_state=lambda k: mann_state(training, k),
                              step_fn=mann_step(training, root_tag_mask(data.class_names)), loop=training.loop,
                              workdir=workdir, progress=progress, **loop_options)
     return state.params

@@ -11,11 +11,11 @@ decoder (the same Z and controls) reads, at each frame after the first, the pred
 xi and the true one otherwise; xi rises linearly from 0 to 1 between the ``activate`` and ``accomplish`` fractions
 of training (the paper's epochs 250 and 750 of 1,000). While it is on, the passes weigh lambda_1 = 0.1 and
 lambda_2 = 0.9, else 1 and 0, and a second pass that would weigh 0 is not run (``jax.lax.cond``: before
-``activate`` and while the gate is shut, the step costs what teacher forcing alone does; ``scheduled_sampling=False``,
-Table 2's ablation, never runs it). Where the paper is silent: frames are mixed independently (one Bernoulli draw each); the predicted poses enter
-the second pass without gradient; the "close enough" gate turns the second pass on for a batch only while the first
-pass's squared error (over real frames and numbers, as the loss's rotation term) is below ``gate``
-(:class:`MarionetTraining`).
+``activate`` and while the gate is shut, the step costs what teacher forcing alone does;
+``scheduled_sampling=False``, Table 2's ablation, never runs it). Where the paper is silent: frames are mixed
+independently (one Bernoulli draw each); the predicted poses enter the second pass without gradient; the "close
+enough" gate turns the second pass on for a batch only while the first pass's squared error (over real frames
+and numbers, as the loss's rotation term) is below ``gate`` (:class:`MarionetTraining`).
 """
 
 from __future__ import annotations
@@ -52,6 +52,10 @@ class MarionetTraining:
     "close enough"); 0.02 is about what holding the last context pose still scores on synth-mag, so the second pass
     counts once the first beats standing still (an untrained model scores some thirty times more). ``max_frames``:
     actions longer than this are left out of training (the model's longest; the paper's is unstated).
+    ``length_buckets``: how many groups of similar durations batches are drawn from, each padded to its group's
+    longest (:class:`~jaxmotion.data.pipeline.BatchSpec` ``buckets``; [U]: the paper does not say how batches are
+    formed); 1 pads every batch to the longest action item. The cpu and paper profiles use 4: on synth-mag's
+    durations (30-120 frames) a step then costs two thirds of a padded one, at one compilation per bucket.
     """
 
     model: MarionetConfig
@@ -64,9 +68,10 @@ class MarionetTraining:
     accomplish: float = 0.75
     gate: float = 0.02
     max_frames: int = 120
+    length_buckets: int = 1
 
     def __post_init__(self):
-        check_at_least(self, 1, "batch_size", "max_frames")
+        check_at_least(self, 1, "batch_size", "max_frames", "length_buckets")
         if not 0.0 <= self.activate < self.accomplish <= 1.0:
             raise ValueError(f"MarionetTraining.activate, accomplish: expected 0 <= activate < accomplish <= 1 "
                              f"(fractions of training), got {self.activate}, {self.accomplish}")
@@ -140,12 +145,14 @@ def marionet_step(training: MarionetTraining, root_tags: np.ndarray):
 
 
 def fit_action_items(data: MotionDataset, key: jax.Array, *, num_tags: int, batch_size: int, max_frames: int,
-                     init_state: Callable[[jax.Array], TrainState], step_fn: Callable, loop: LoopConfig,
-                     workdir: str | Path | None = None, progress: bool = True, **loop_options) -> TrainState:
+                     length_buckets: int, init_state: Callable[[jax.Array], TrainState], step_fn: Callable,
+                     loop: LoopConfig, workdir: str | Path | None = None, progress: bool = True,
+                     **loop_options) -> TrainState:
     """The shared loop (:func:`~jaxmotion.train.fit.fit`) on the action items of ``data`` (a multi-action dataset:
     synth-mag, mag) of at most ``max_frames`` frames, batched whole (:func:`~jaxmotion.data.pipeline.
-    action_item_batches`): what every trainer of Neural Marionette's tables (MARIONET and the baselines it is
-    compared with) runs, ``step_fn`` reading each batch through :func:`marionet_inputs`."""
+    action_item_batches`, in ``length_buckets`` groups of similar durations): what every trainer of Neural
+    Marionette's tables (MARIONET and the baselines it is compared with) runs, ``step_fn`` reading each batch
+    through :func:`marionet_inputs`."""
     if data.num_classes != num_tags:
         raise ValueError(f"model.num_tags: {num_tags}, but {data.name} has {data.num_classes} tags")
     if data.rotations is None:
@@ -156,7 +163,7 @@ def fit_action_items(data: MotionDataset, key: jax.Array, *, num_tags: int, batc
         raise ValueError(f"data: no action of {data.name}/{data.split} has context frames and at most "
                          f"{max_frames} frames")
     items = items.subset(keep)
-    spec, labels = action_item_batches(items, batch_size)
+    spec, labels = action_item_batches(items, batch_size, buckets=length_buckets)
     return fit(items.data, key, init_state=init_state, step_fn=step_fn, batch=spec, labels=labels, loop=loop,
                workdir=workdir, progress=progress, **loop_options)
 
@@ -166,7 +173,8 @@ def train_marionet(data: MotionDataset, training: MarionetTraining, key: jax.Arr
     """Fit MARIONET on the action items of ``data`` (:func:`fit_action_items`), resuming from ``workdir``'s
     checkpoints; returns the parameters. ``loop_options``: the loop's ``mesh``, ``init_from``, ``eval_fn``."""
     state = fit_action_items(data, key, num_tags=training.model.num_tags, batch_size=training.batch_size,
-                             max_frames=training.max_frames, init_state=lambda k: marionet_state(training, k),
+                             max_frames=training.max_frames, length_buckets=training.length_buckets,
+                             init_state=lambda k: marionet_state(training, k),
                              step_fn=marionet_step(training, root_tag_mask(data.class_names)), loop=training.loop,
                              workdir=workdir, progress=progress, **loop_options)
     return state.params
