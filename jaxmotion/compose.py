@@ -25,7 +25,7 @@ import dataclasses
 import json
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import jax
@@ -86,13 +86,19 @@ def parse_actions(text: str, tag_names: Sequence[str], fps: float, max_frames: i
 
 
 def compose(generator: ContextGenerator, program: Program, key: jax.Array, *,
-            options: ChainOptions = ChainOptions(), reviser=None, mean: bool = False) -> dict:
+            options: ChainOptions = ChainOptions(), reviser=None, mean: bool = False, padded: bool = False,
+            on_action: Callable[[int, bool, bool], None] | None = None) -> dict:
     """One motion of ``program``'s actions in order (:func:`~jaxmotion.pipelines.multi_action.chain_actions`):
     ``rotations [T, 24, 3]``, ``translation [T, 3]``, ``joints [T, 24, 3]`` and ``segments`` (per action: tags,
-    first frame, end frame, ``shadowed``, ``revised``). ``mean``: Z = mu for every action."""
+    first frame, end frame, ``shadowed``, ``revised``). ``mean``: Z = mu for every action. ``padded``: every action
+    generated at the model's longest duration (then cut), so any program reuses one compilation (a server's
+    choice). ``on_action(a, shadowed, revised)``: called as each action is done."""
     k_start, k_chain = jax.random.split(key)
-    conditions = program_conditions(generator, program, k_start)
-    chained = chain_actions(generator, None if mean else k_chain, conditions, options=options, reviser=reviser)
+    conditions = program_conditions(generator, program, k_start, frames=generator.max_frames if padded else None)
+    report = None if on_action is None else (lambda a, shadowed, revised: on_action(a, bool(shadowed[0]),
+                                                                                      bool(revised[0])))
+    chained = chain_actions(generator, None if mean else k_chain, conditions, options=options, reviser=reviser,
+                            on_action=report)
     motion = joined(chained)
     ends = motion["starts"][0] + chained["lengths"][0]
     revised = chained.get("revised", np.zeros_like(chained["shadowed"]))[0]

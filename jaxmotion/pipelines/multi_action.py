@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Literal
 
 import jax
@@ -141,7 +141,8 @@ def _take(frames: jax.Array, index: jax.Array) -> jax.Array:
 
 def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions: Mapping[str, np.ndarray], *,
                   options: ChainOptions = ChainOptions(), reviser: Recognizer | None = None,
-                  local_paths: bool = False) -> dict[str, np.ndarray]:
+                  local_paths: bool = False, on_action: Callable[[int, np.ndarray, np.ndarray], None] | None = None
+                  ) -> dict[str, np.ndarray]:
     """B programs of A actions each, every action continuing the one before (module docstring).
 
     Args:
@@ -155,6 +156,7 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
       reviser: Action Revision's classifier (required with ``shadow_start="revision"``).
       local_paths: the paths are in the frame of each action's start (its context's last pose normalised: Eqs.
         3-5), as test programs made of actions from different takes give them; False: world points.
+      on_action: called with ``(a, shadowed [B], revised [B])`` once action ``a`` is generated (progress).
 
     Returns:
       ``rotations [B, A, T, 24, 3]``, ``translation [B, A, T, 3]``, ``joints [B, A, T, 24, 3]`` (world frame, zero past
@@ -221,6 +223,8 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
             outputs[name].append(np.asarray(out[name]))
         outputs["shadowed"].append(always | revised)
         outputs["revised"].append(revised)
+        if on_action is not None:
+            on_action(a, always | revised, revised)
         rotations, translation = out["next_rotations"], out["next_translation"]
     if options.shadow_start != "revision":
         del outputs["revised"]
@@ -259,14 +263,17 @@ def bezier_path(points: np.ndarray, frames: int) -> np.ndarray:
     return curve[0].astype(np.float32)
 
 
-def program_conditions(generator: ContextGenerator, program: Program, key: jax.Array) -> dict[str, np.ndarray]:
+def program_conditions(generator: ContextGenerator, program: Program, key: jax.Array, *,
+                       frames: int | None = None) -> dict[str, np.ndarray]:
     """:func:`chain_actions`' conditions (world paths) of one ``program``: its actions' tags, the next action's
     (the last: its own), durations, their paths where given (world ground points, followed), and its context, or
-    else a training start of the first action's first tag (over the origin, facing +Z), drawn with ``key``."""
+    else a training start of the first action's first tag (over the origin, facing +Z), drawn with ``key``.
+    ``frames``: the frames every action is padded to (at least the longest; None: the longest), so that programs
+    of other durations reuse one compilation of the chain."""
     program.check(generator.class_names, generator.max_frames, num_joints=24)
     tags = program.tag_matrix(generator.class_names)[None]
     durations = np.array([[a.duration for a in program.actions]], np.int32)
-    frames = int(durations.max())
+    frames = max(int(durations.max()), frames or 0)
     paths = np.zeros((1, len(program.actions), frames, 2), np.float32)
     follow = np.zeros((1, len(program.actions)), bool)
     for a, action in enumerate(program.actions):
