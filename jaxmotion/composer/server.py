@@ -1,12 +1,14 @@
 """The composer's HTTP server: the page and a small JSON API over a :class:`~jaxmotion.composer.app.Composer`, on the
 standard library's threaded server (each request its own thread; generation itself one request at a time).
 
-| request | answer |
-| --- | --- |
-| ``GET /`` and ``GET /static/<file>`` | the page (``static/``: HTML, JavaScript, CSS; no library, nothing from a CDN) |
-| ``GET /api/model`` | the model's facts (:meth:`Composer.model`) |
-| ``POST /api/generate`` | a request (:mod:`jaxmotion.composer.app`) -> a stream of JSON lines (``application/x-ndjson``): ``{"event": "queued"}`` when another request goes first, ``{"event": "warning", "message"}`` per tag pair never seen in training, ``{"event": "action", "index", "of", "shadowed", "revised"}`` per action done, then ``{"event": "done", "motion"}`` or ``{"event": "error", "message"}`` |
-| ``GET /api/motions/<id>/<file>`` | a generated motion as ``motion.bvh``, ``motion.npz`` (AMASS layout), ``motion.npy`` (joints) or ``segments.json`` |
+* ``GET /`` and ``GET /static/<file>``: the page (``static/``: HTML, JavaScript, CSS; no library, no CDN).
+* ``GET /api/model``: the model's facts (:meth:`~jaxmotion.composer.app.Composer.model`).
+* ``POST /api/generate``: a request (:mod:`jaxmotion.composer.app`) -> a stream of JSON lines
+  (``application/x-ndjson``): ``{"event": "queued"}`` when another request goes first, ``{"event": "warning",
+  "message"}`` per tag pair never seen in training, ``{"event": "action", "index", "of", "shadowed", "revised"}``
+  per action done, then ``{"event": "done", "motion"}`` or ``{"event": "error", "message"}``.
+* ``GET /api/motions/<id>/<file>``: a generated motion as ``motion.bvh``, ``motion.npz`` (AMASS layout),
+  ``motion.npy`` (joints) or ``segments.json``.
 
 Bad requests get a 4xx with ``{"error": message}`` naming the field (400: not JSON, a bad program; 404: an unknown
 path or motion; 405: another method; 411: no length; 413: a body over :data:`MAX_BODY`), and the server goes on
