@@ -15,7 +15,9 @@ so off by default). An action
 whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
 chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
 classifier ``--reviser``, trained once and cached); where Shadow Start acts, ``--smoothing`` frames blend the action
-in from the pose before it (the paper's interface does so; its tables do not).
+in from the pose before it (the paper's interface does so; its tables do not). An action whose path starts in a
+direction none of its tag's training starts took, relative to the body, starts turned towards it (the interface's
+orientation check; ``--no-orientation``: off).
 """
 
 from __future__ import annotations
@@ -90,7 +92,8 @@ def compose(generator: ContextGenerator, program: Program, key: jax.Array, *,
             on_action: Callable[[int, bool, bool], None] | None = None) -> dict:
     """One motion of ``program``'s actions in order (:func:`~jaxmotion.pipelines.multi_action.chain_actions`):
     ``rotations [T, 24, 3]``, ``translation [T, 3]``, ``joints [T, 24, 3]`` and ``segments`` (per action: tags,
-    first frame, end frame, ``shadowed``, ``revised``). ``mean``: Z = mu for every action. ``padded``: every action
+    first frame, end frame, ``shadowed``, ``revised``, ``turned``: degrees by which the orientation check turned its
+    start). ``mean``: Z = mu for every action. ``padded``: every action
     generated at the model's longest duration (then cut), so any program reuses one compilation (a server's
     choice). ``on_action(a, shadowed, revised)``: called as each action is done."""
     k_start, k_chain = jax.random.split(key)
@@ -102,9 +105,10 @@ def compose(generator: ContextGenerator, program: Program, key: jax.Array, *,
     motion = joined(chained)
     ends = motion["starts"][0] + chained["lengths"][0]
     revised = chained.get("revised", np.zeros_like(chained["shadowed"]))[0]
+    turned = np.rad2deg(chained.get("turned", np.zeros(chained["shadowed"].shape, np.float32))[0])
     segments = [{"tags": list(action.tags), "start": int(start), "end": int(end), "shadowed": bool(shadowed),
-                 "revised": bool(again)} for action, start, end, shadowed, again in
-                zip(program.actions, motion["starts"][0], ends, chained["shadowed"][0], revised)]
+                 "revised": bool(again), "turned": round(float(turn), 1)} for action, start, end, shadowed, again, turn
+                in zip(program.actions, motion["starts"][0], ends, chained["shadowed"][0], revised, turned)]
     frames = int(motion["lengths"][0])
     return {**{k: motion[k][0, :frames] for k in ("rotations", "translation", "joints")}, "segments": segments}
 
@@ -153,6 +157,9 @@ def main(argv: Sequence[str] | None = None) -> Path:
                         help="Action Revision's classifier (an evaluator name; default synth-mag/transformer-seed1)")
     parser.add_argument("--reviser-profile", default="cpu", choices=("smoke", "cpu", "paper"),
                         help="the classifier's training profile (default cpu; trained once, then cached)")
+    parser.add_argument("--no-orientation", action="store_true",
+                        help="no start orientation check (on by default: an action whose path starts where its tag "
+                             "never headed in training starts turned towards it, as the paper's interface does)")
     parser.add_argument("--gif", action="store_true",
                         help="also write <name>.gif: the body in 3D above the tag timeline with a moving cursor")
     args = parser.parse_args(argv)
@@ -170,7 +177,7 @@ def main(argv: Sequence[str] | None = None) -> Path:
         reviser = None
         if args.shadow == "revision":
             reviser, _ = trained_recognizer(evaluator_spec(args.reviser, args.reviser_profile))
-        options = ChainOptions(args.shadow, smoothing=args.smoothing)
+        options = ChainOptions(args.shadow, smoothing=args.smoothing, orientation=not args.no_orientation)
         motion = compose(generator, program, jax.random.key(args.seed), options=options, reviser=reviser,
                          mean=args.mean)
     except (ValueError, FileNotFoundError) as error:

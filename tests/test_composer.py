@@ -18,7 +18,7 @@ from jaxmotion.data.export import load_bvh
 from jaxmotion.models.marionet import MarionetConfig, init_marionet
 from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.pipelines.marionette import ContextGenerator, start_bank
-from jaxmotion.pipelines.multi_action import bezier_path
+from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path
 
 CONFIG = MarionetConfig.tiny(max_frames=40)
 
@@ -68,8 +68,9 @@ def test_a_request_becomes_a_program_with_bezier_paths_per_frame(generator):
     np.testing.assert_allclose(actions[0].path, bezier_path(np.array(PROGRAM["actions"][0]["path"]), 15), atol=1e-6)
     np.testing.assert_allclose(actions[1].path[-1], [2, 1], atol=1e-6)
     assert actions[2].path is None and request.controls[2] is None
-    assert (request.seed, request.options.shadow_start, request.options.smoothing, request.mean) == (3, "always", 6,
-                                                                                                     False)
+    assert (request.seed, request.options, request.mean) == (3, ChainOptions("always", smoothing=6, orientation=True),
+                                                             False)
+    assert not read_request({**PROGRAM, "orientation": False}, generator).options.orientation
 
 
 @pytest.mark.parametrize("change, message", [
@@ -91,6 +92,7 @@ def test_a_request_becomes_a_program_with_bezier_paths_per_frame(generator):
     ({"smoothing": -1}, "smoothing: expected a whole number of frames from 0 to 40, got -1"),
     ({"seed": "1"}, "seed: expected a whole number from 0 to 2^31 - 1, got \"1\""),
     ({"mean": 1}, "mean: expected true or false, got 1"),
+    ({"orientation": "yes"}, "orientation: expected true or false, got \"yes\""),
     ({"colour": "red"}, "request: unknown field 'colour'"),
 ])
 def test_bad_requests_name_the_action_and_the_field(generator, change, message):

@@ -12,8 +12,8 @@ from jaxmotion.geometry.rotations import matrix_to_axis_angle
 from jaxmotion.models.mann import MannConfig, init_mann
 from jaxmotion.models.marionet import MarionetConfig, embed_poses, init_marionet
 from jaxmotion.pipelines.artefacts import DataFacts
-from jaxmotion.pipelines.marionette import ContextGenerator, generate_actions, start_bank
-from jaxmotion.pipelines.multi_action import ChainOptions, chain_actions, joined, shadow_start
+from jaxmotion.pipelines.marionette import ContextGenerator, StartBank, generate_actions, start_bank
+from jaxmotion.pipelines.multi_action import ChainOptions, chain_actions, heading_ranges, joined, shadow_start
 
 CONFIG = MarionetConfig.tiny(max_frames=10)
 ACTIONS, FRAMES = 3, 9
@@ -175,3 +175,62 @@ def test_smoothing_blends_shadowed_actions_in_from_the_pose_before(generator):
     np.testing.assert_allclose(smooth["joints"][:, 0, 3:], plain["joints"][:, 0, 3:], atol=1e-5)  # frame 3 on
     pure = chain_actions(generator, None, c, options=ChainOptions("never", smoothing=3))
     np.testing.assert_array_equal(pure["joints"], chain_actions(generator, None, c)["joints"])  # no shadow, no blend
+
+
+def test_heading_ranges_are_the_directions_training_starts_took_plus_a_margin():
+    angles = np.deg2rad([10.0, 30.0])
+    paths = np.zeros((2, 3, 8, 2), np.float32)  # tag 0: two starts heading 10 and 30 degrees, one standing still
+    paths[0, :2, :, 0] = np.sin(angles)[:, None] * np.arange(1, 9) * 0.05
+    paths[0, :2, :, 1] = np.cos(angles)[:, None] * np.arange(1, 9) * 0.05
+    bank = _bank(paths, counts=[3, 2])
+    ranges = np.rad2deg(heading_ranges(bank, margin=np.deg2rad(15.0)))
+    np.testing.assert_allclose(ranges[0], [20.0, -25.0, 25.0], atol=1e-4)
+    np.testing.assert_allclose(ranges[1], [0.0, -180.0, 180.0], atol=1e-4)  # tag 1 never moves: no check
+
+
+def _bank(paths, counts):
+    tags, per_tag, frames, _ = paths.shape
+    zeros = np.zeros((tags, per_tag, 6), np.float32)
+    return StartBank(np.zeros((tags, per_tag, 6, 24, 3), np.float32), zeros[..., None].repeat(3, -1), paths,
+                     np.full((tags, per_tag), frames, np.int32), np.array(counts, np.int32),
+                     np.zeros((1, 135), np.float32), np.zeros(1, np.int32), np.zeros((tags, tags)))
+
+
+def test_the_orientation_check_turns_a_context_towards_a_path_no_start_of_its_tag_took(generator):
+    """A path 2.5 rad off the tag's usual direction: the context turns about its last root until the path lies at
+    the edge of the range, and the action is what the model makes from that turned context; a path within the range
+    changes nothing."""
+    ranges = heading_ranges(generator.starts)
+    tag = int(np.argmin(np.where(ranges[:, 2] - ranges[:, 1] < 6.0, ranges[:, 2], np.inf)))  # a tag with a range
+    mean, _, high = ranges[tag]
+    c = {k: v[:1, :1] if k in ("tags", "next_tags", "durations", "paths", "follow") else v[:1]
+         for k, v in _conditions(7, programs=1).items()}
+    c["tags"] = c["next_tags"] = np.eye(31, dtype=bool)[None, None, tag]
+    c["follow"], c["durations"] = np.ones((1, 1), bool), np.full((1, 1), FRAMES)
+    last_root = axis_angle_to_matrix(c["context_rotations"][0, -1, 0])
+    facing = np.arctan2(*np.asarray(last_root)[[0, 2], 2])  # the root's forward axis on the ground
+
+    def path(offset):  # straight from the last root, `offset` from the tag's usual direction
+        heading = facing + mean + offset
+        steps = 0.05 * np.arange(1, FRAMES + 1)[:, None] * [np.sin(heading), np.cos(heading)]
+        return (c["context_translation"][0, -1, [0, 2]] + steps).astype(np.float32)[None, None]
+
+    options = ChainOptions(orientation=True)
+    out = chain_actions(generator, None, {**c, "paths": path(2.5)}, options=options)
+    np.testing.assert_allclose(out["turned"][0, 0], 2.5 - high, atol=1e-4)
+    turn = float(out["turned"][0, 0])
+    about_y = np.array([[np.cos(turn), 0, np.sin(turn)], [0, 1, 0], [-np.sin(turn), 0, np.cos(turn)]], np.float32)
+    pivot = c["context_translation"][0, -1] * [1, 0, 1]
+    roots = np.asarray(matrix_to_axis_angle(about_y @ axis_angle_to_matrix(c["context_rotations"][0, :, 0])))
+    turned = c["context_rotations"].copy()
+    turned[0, :, 0] = roots
+    alone = generate_actions(generator.params, CONFIG, turned, (c["context_translation"] - pivot) @ about_y.T + pivot,
+                             c["tags"][:, 0], c["next_tags"][:, 0], c["durations"][:, 0], path(2.5)[:, 0],
+                             c["follow"][:, 0])
+    np.testing.assert_allclose(out["joints"][:, 0], alone["joints"], atol=1e-4)
+    within = {**c, "paths": path(0.0)}
+    kept = chain_actions(generator, None, within, options=options)
+    assert kept["turned"][0, 0] == 0
+    np.testing.assert_array_equal(kept["joints"], chain_actions(generator, None, within)["joints"])
+    with pytest.raises(ValueError, match="options.orientation: the check turns a context towards a world path"):
+        chain_actions(generator, None, within, options=options, local_paths=True)

@@ -8,9 +8,10 @@ two, 1 frame to the model's longest), and for an action that moves the root opti
 follows, sampled at t = n/T (the supplement's §5.2: the page fits a cubic to each drawn segment, so four points;
 two make a straight line). ``shadow``: Table 5's system, ``revision`` (Neural Marionette: Shadow Start on Action
 Revision; the default), ``always`` or ``never`` (the pure pipeline); ``smoothing``: frames over which an action that
-starts from its shadow is blended in (the paper's interface does so; 6 by default, 0 off); ``seed`` draws the start
-and every Z; ``mean`` sets Z = mu. Anything else is a :class:`RequestError` whose message names the action and the
-field.
+starts from its shadow, or turned, is blended in (the paper's interface does so; 6 by default, 0 off);
+``orientation``: the interface's start orientation check (the supplement's §5.2, on by default:
+:class:`~jaxmotion.pipelines.multi_action.ChainOptions`); ``seed`` draws the start and every Z; ``mean`` sets
+Z = mu. Anything else is a :class:`RequestError` whose message names the action and the field.
 
 :class:`Composer` generates one request at a time (a lock: a second one waits its turn, and is told so), every action
 padded to the model's longest so that any program reuses the compilation made at start-up (:meth:`Composer.warm_up`),
@@ -49,7 +50,7 @@ SHADOW_MODES = ("revision", "always", "never")
 DOWNLOADS = {"motion.bvh": ("bvh", "text/plain"), "motion.npz": ("npz", "application/octet-stream"),
              "motion.npy": ("npy", "application/octet-stream"), "segments.json": (None, "application/json")}
 _ACTION_FIELDS = {"tags", "seconds", "frames", "path"}
-_REQUEST_FIELDS = {"actions", "seed", "shadow", "smoothing", "mean"}
+_REQUEST_FIELDS = {"actions", "seed", "shadow", "smoothing", "orientation", "mean"}
 
 
 class RequestError(ValueError):
@@ -69,7 +70,7 @@ class Request:
     program: Program
     controls: tuple[tuple[tuple[float, float], ...] | None, ...]
     seed: int = 0
-    options: ChainOptions = ChainOptions("revision")
+    options: ChainOptions = ChainOptions("revision", smoothing=6, orientation=True)
     mean: bool = False
 
 
@@ -156,11 +157,12 @@ def read_request(payload: Any, generator: ContextGenerator) -> Request:
     if not _integer(smoothing) or not 0 <= smoothing <= generator.max_frames:
         raise RequestError(f"smoothing: expected a whole number of frames from 0 to {generator.max_frames}, got "
                            f"{json.dumps(smoothing)}")
-    mean = payload.get("mean", False)
-    if not isinstance(mean, bool):
-        raise RequestError(f"mean: expected true or false, got {json.dumps(mean)}")
+    flags = {name: payload.get(name, default) for name, default in (("orientation", True), ("mean", False))}
+    for name, value in flags.items():
+        if not isinstance(value, bool):
+            raise RequestError(f"{name}: expected true or false, got {json.dumps(value)}")
     return Request(Program(tuple(action for action, _ in read)), tuple(c for _, c in read), seed,
-                   ChainOptions(shadow, smoothing=smoothing), mean)
+                   ChainOptions(shadow, smoothing=smoothing, orientation=flags["orientation"]), flags["mean"])
 
 
 class Composer:

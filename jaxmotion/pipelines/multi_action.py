@@ -39,14 +39,14 @@ import numpy as np
 
 from jaxmotion.config import check_at_least
 from jaxmotion.data.segments import Program
-from jaxmotion.geometry.kinematics import forward_kinematics
+from jaxmotion.geometry.kinematics import forward_kinematics, heading_transform, transform_ground_path, transform_motion
 from jaxmotion.geometry.rotations import (axis_angle_to_matrix, axis_angle_to_quaternion, quaternion_to_axis_angle,
                                          slerp)
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.models import marionet
 from jaxmotion.models.marionet import CONTEXT, MarionetConfig
 from jaxmotion.models.recognition import Recognizer
-from jaxmotion.pipelines.marionette import ContextGenerator, continue_in_world, num_tags
+from jaxmotion.pipelines.marionette import ContextGenerator, StartBank, continue_in_world, num_tags
 
 
 @dataclasses.dataclass(frozen=True)
@@ -56,12 +56,16 @@ class ChainOptions:
     rejects are generated once more with Shadow Start); ``neighbours`` (N of Eq. 6) and ``normalise`` (False: NEURAL
     MARIONETTE*); ``smoothing``: frames over which an action that started from its shadow is blended in from the
     previous action's last pose (the paper's interface, §6: every joint's rotation by slerp, the root linearly,
-    weight ``(k + 1) / (smoothing + 1)`` on frame k's own pose); 0, the paper's tables: off."""
+    weight ``(k + 1) / (smoothing + 1)`` on frame k's own pose); 0, the paper's tables: off. ``orientation``: the
+    interface's start orientation check (the supplement's §5.2): an action that follows a path whose first frames head
+    where no training start of its tag headed, relative to the body's facing, starts from its context turned about
+    the vertical until they do (:func:`heading_ranges`; smoothed in like a shadowed start); off in the tables."""
 
     shadow_start: Literal["never", "always", "revision"] = "never"
     neighbours: int = 8
     normalise: bool = True
     smoothing: int = 0
+    orientation: bool = False
 
     def __post_init__(self):
         if self.shadow_start not in ("never", "always", "revision"):
@@ -92,11 +96,63 @@ def shadow_start(params: marionet.MarionetParams, begin: jax.Array, labels: jax.
     return jnp.where(valid.any(axis=1)[:, None], projected, f0)
 
 
+#: The orientation check's allowance beyond the directions the training starts took ([U]: the paper's range is the
+#: training data's), and the least a path must move over its first frames to have a direction (metres).
+HEADING_MARGIN = np.deg2rad(15.0)
+HEADING_MIN_TRAVEL = 0.05
+
+
+def heading_ranges(bank: StartBank, margin: float = HEADING_MARGIN) -> np.ndarray:
+    """Per tag, the directions in which the root moved over the first frames (up to :data:`CONTEXT`) of its training
+    starts, relative to the body's facing (angle ``atan2(x, z)`` in the normalised frame: 0 straight ahead, +pi/2 to
+    the body's left) -> ``[C, 3]``: their circular mean and the least and most offsets from it, widened by
+    ``margin``; a tag none of whose starts moves :data:`HEADING_MIN_TRAVEL` gets the whole circle (no check)."""
+    ranges = np.tile([0.0, -np.pi, np.pi], (len(bank.counts), 1))
+    for tag, count in enumerate(bank.counts):
+        ahead = bank.paths[tag, np.arange(count), np.clip(bank.durations[tag, :count] - 1, 0, CONTEXT - 1)]
+        ahead = ahead[np.linalg.norm(ahead, axis=-1) >= HEADING_MIN_TRAVEL]
+        if len(ahead):
+            angles = np.arctan2(ahead[:, 0], ahead[:, 1])
+            mean = np.arctan2(np.sin(angles).mean(), np.cos(angles).mean())
+            offsets = np.angle(np.exp(1j * (angles - mean)))
+            ranges[tag] = [mean, max(offsets.min() - margin, -np.pi), min(offsets.max() + margin, np.pi)]
+    return ranges.astype(np.float32)
+
+
+def _oriented(rotations: jax.Array, translation: jax.Array, labels: jax.Array, paths: jax.Array, follow: jax.Array,
+              durations: jax.Array, ranges: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """The orientation check (:class:`ChainOptions`): contexts ``rotations [B, K, 24, 3]``, ``translation [B, K, 3]``
+    (world) turned about the vertical through their last root where the followed world ``paths [B, T, 2]`` start
+    outside their first tag's range (``labels [B]``, :func:`heading_ranges` ``ranges [C, 3]``) -> the contexts and
+    the turn ``[B]`` (radians, about +Y; 0 where none)."""
+    to_local, shift = heading_transform(axis_angle_to_matrix(rotations[:, -1, 0]), translation[:, -1])
+    local = transform_ground_path(to_local, shift, paths)  # [B, T, 2], the body at the origin facing +Z
+    ahead = jnp.take_along_axis(local, jnp.clip(durations - 1, 0, CONTEXT - 1)[:, None, None], axis=1)[:, 0]
+    mean, low, high = ranges[labels].T
+    offset = jnp.angle(jnp.exp(1j * (jnp.arctan2(ahead[:, 0], ahead[:, 1]) - mean)))
+    moves = follow & (jnp.linalg.norm(ahead, axis=-1) >= HEADING_MIN_TRAVEL)
+    turn = jnp.where(moves, offset - jnp.clip(offset, low, high), 0.0)
+    cos, sin, zero, one = jnp.cos(turn), jnp.sin(turn), jnp.zeros_like(turn), jnp.ones_like(turn)
+    about_y = jnp.stack([jnp.stack([cos, zero, sin], -1), jnp.stack([zero, one, zero], -1),
+                         jnp.stack([-sin, zero, cos], -1)], -2)  # [B, 3, 3]: +Z turned by `turn` towards +X
+    pivot = translation[:, -1] * jnp.array([1.0, 0.0, 1.0])
+    shift = pivot - jnp.einsum("bij,bj->bi", about_y, pivot)
+    turned_rotations, turned_translation = transform_motion(about_y, shift, rotations, translation)
+    kept = turn == 0  # those as they were, bitwise
+    return (jnp.where(kept[:, None, None, None], rotations, turned_rotations),
+            jnp.where(kept[:, None, None], translation, turned_translation), turn)
+
+
 @functools.partial(jax.jit, static_argnames=("config", "local_paths", "options"))
-def _action_step(params, config, embedded, bank_labels, rotations, translation, tags, next_tags, paths, follow, mask,
-                 key, shadowed, *, local_paths: bool, options: ChainOptions) -> dict[str, jax.Array]:
+def _action_step(params, config, embedded, bank_labels, ranges, rotations, translation, tags, next_tags, paths,
+                 follow, mask, key, shadowed, *, local_paths: bool, options: ChainOptions) -> dict[str, jax.Array]:
     """One action of every program (``shadowed [B]``: rows that start from their shadow; ``embedded``: the Shadow
-    Start bank's embeddings) and the next context."""
+    Start bank's embeddings; ``ranges``: :func:`heading_ranges`) and the next context."""
+    last_rotations, last_translation = rotations[:, -1], translation[:, -1]
+    turn = jnp.zeros(rotations.shape[0], rotations.dtype)
+    if options.orientation:
+        rotations, translation, turn = _oriented(rotations, translation, jnp.argmax(tags, axis=-1), paths, follow,
+                                                 jnp.sum(mask, axis=1), ranges)
 
     def start(begin):  # the normalised begin pose exists inside the step only
         shadow = shadow_start(params, begin, jnp.argmax(tags, axis=-1), embedded, bank_labels,
@@ -105,8 +161,9 @@ def _action_step(params, config, embedded, bank_labels, rotations, translation, 
 
     out = continue_in_world(params, config, rotations, translation, tags, next_tags, paths, follow, mask, key,
                             local_paths=local_paths, start=None if options.shadow_start == "never" else start)
-    if options.smoothing:
-        out = _smoothed(out, rotations[:, -1], translation[:, -1], shadowed, mask, options.smoothing)
+    if options.smoothing:  # from the pose before, as it was
+        out = _smoothed(out, last_rotations, last_translation, shadowed | (turn != 0), mask, options.smoothing)
+    out["turned"] = turn
     durations = jnp.sum(mask, axis=1)
     index = durations[:, None] + jnp.arange(CONTEXT)  # the last K frames of context + action
     out["next_rotations"] = _take(jnp.concatenate([rotations, out["rotations"]], axis=1), index)
@@ -161,7 +218,8 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
     Returns:
       ``rotations [B, A, T, 24, 3]``, ``translation [B, A, T, 3]``, ``joints [B, A, T, 24, 3]`` (world frame, zero past
       each action's end), ``lengths [B, A]``, ``shadowed [B, A]`` (started from the shadow) and, with Action Revision,
-      ``revised [B, A]`` (it regenerated the action).
+      ``revised [B, A]`` (it regenerated the action), and with the orientation check ``turned [B, A]`` (radians
+      about +Y by which each action's context was turned; 0 where it was not).
     """
     shadowing = options.shadow_start != "never"
     if shadowing and not isinstance(generator.model, MarionetConfig):
@@ -200,11 +258,15 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
     # the bank's embeddings once per call, not at every action step
     # (a chain that never shadows never reads them: the poses stand in, unembedded)
     embedded = _embedded_bank(generator.params, jnp.asarray(bank.bops)) if shadowing else jnp.asarray(bank.bops)
+    if options.orientation and local_paths:
+        raise ValueError("options.orientation: the check turns a context towards a world path; local paths turn "
+                         "with it")
     step = functools.partial(_action_step, generator.params, generator.model, embedded,
-                             jnp.asarray(bank.bop_labels), local_paths=local_paths, options=options)
+                             jnp.asarray(bank.bop_labels), jnp.asarray(heading_ranges(bank)), local_paths=local_paths,
+                             options=options)
     always = np.full(batch, options.shadow_start == "always")
     keep = ("rotations", "translation", "joints")
-    outputs: dict[str, list[np.ndarray]] = {name: [] for name in (*keep, "shadowed", "revised")}
+    outputs: dict[str, list[np.ndarray]] = {name: [] for name in (*keep, "shadowed", "revised", "turned")}
     for a in range(actions):
         mask = np.arange(frames)[None] < durations[:, a, None]
         k_a = None if key is None else jax.random.fold_in(key, a)
@@ -223,11 +285,14 @@ def chain_actions(generator: ContextGenerator, key: jax.Array | None, conditions
             outputs[name].append(np.asarray(out[name]))
         outputs["shadowed"].append(always | revised)
         outputs["revised"].append(revised)
+        outputs["turned"].append(np.asarray(out["turned"]))
         if on_action is not None:
             on_action(a, always | revised, revised)
         rotations, translation = out["next_rotations"], out["next_translation"]
     if options.shadow_start != "revision":
         del outputs["revised"]
+    if not options.orientation:
+        del outputs["turned"]
     return {**{name: np.stack(values, axis=1) for name, values in outputs.items()},
             "lengths": durations.astype(np.int32)}
 

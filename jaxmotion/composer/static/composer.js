@@ -145,6 +145,7 @@ function requestBody() {
     shadow: $("shadow").value,
     smoothing: Number($("smoothing").value),
     seed: Number($("seed").value),
+    orientation: $("orientation").checked,
   };
 }
 
@@ -360,8 +361,10 @@ async function generate() {
     if (!motion) throw new Error("the server closed the stream before the motion came");
     show(motion);
     const revised = motion.segments.map((s, i) => (s.revised ? i + 1 : 0)).filter((i) => i);
+    const turned = motion.segments.map((s, i) => (s.turned ? `${i + 1} by ${s.turned}°` : "")).filter((t) => t);
     setStatus(`${motion.frames} frames, ${motion.segments.length} actions` +
-              (revised.length ? `; Action Revision regenerated action ${revised.join(", ")}` : "; no action revised"));
+              (revised.length ? `; Action Revision regenerated action ${revised.join(", ")}` : "; no action revised") +
+              (turned.length ? `; the orientation check turned the start of action ${turned.join(", ")}` : ""));
   } catch (error) {
     setStatus(error.message, true);
     $("player").dataset.state = state.motion ? "paused" : "empty";
@@ -526,7 +529,8 @@ $("timeline").addEventListener("mousedown", (e) => {
 
 function saveProgram() {
   const program = {composer: 1, actions: state.actions,
-                   settings: {shadow: $("shadow").value, smoothing: Number($("smoothing").value), seed: Number($("seed").value)}};
+                   settings: {shadow: $("shadow").value, smoothing: Number($("smoothing").value), seed: Number($("seed").value),
+                              orientation: $("orientation").checked}};
   const a = document.createElement("a");
   a.href = URL.createObjectURL(new Blob([JSON.stringify(program, null, 1)], {type: "application/json"}));
   a.download = "program.json";
@@ -559,6 +563,7 @@ $("load").addEventListener("change", async (e) => {
     if (state.model.shadow_modes.includes(s.shadow)) $("shadow").value = s.shadow;
     if (Number.isInteger(s.smoothing)) $("smoothing").value = s.smoothing;
     if (Number.isInteger(s.seed)) $("seed").value = s.seed;
+    if (typeof s.orientation === "boolean") $("orientation").checked = s.orientation;
     state.selected = -1;
     refresh();
     setStatus(`Loaded ${file.name}: ${state.actions.length} actions`);
