@@ -1,5 +1,6 @@
 """Tests for the SMPL-format body layer on a small hand-made model written in the SMPL format."""
 
+import dataclasses
 import pickle
 import re
 import sys
@@ -19,7 +20,9 @@ from jaxmotion.geometry.body import (
     body_forward_rotmats,
     load_body_model,
     save_body_model,
+    skinning_transforms,
 )
+from jaxmotion.geometry.rotations import axis_angle_to_matrix
 
 NUM_JOINTS, NUM_VERTICES, NUM_BETAS = 4, 40, 3
 FULL_TO_JOINT2, FULL_TO_ROOT = 0, 1  # vertices skinned to a single joint, for analytical checks
@@ -163,6 +166,17 @@ def test_pose_blend_shapes_follow_non_root_rotations(model, fields):
     feature = np.concatenate([(_rodrigues(aa) - np.eye(3)).ravel() for aa in pose[1:]])
     expected = fields["v_template"][FULL_TO_ROOT] + fields["posedirs"][FULL_TO_ROOT] @ feature
     np.testing.assert_allclose(vertices[FULL_TO_ROOT], expected, atol=1e-5)
+
+
+def test_skinning_transforms_skin_the_shaped_rest_vertices_as_the_body_without_pose_correctives(model):
+    rng = np.random.default_rng(3)
+    rotmats = axis_angle_to_matrix(jnp.asarray(rng.uniform(-1.0, 1.0, (2, NUM_JOINTS, 3)), jnp.float32))
+    betas, translation = jnp.asarray(rng.normal(size=(2, NUM_BETAS)), jnp.float32), jnp.array([0.3, 0.1, -0.2])
+    rotations, shifts = skinning_transforms(model, rotmats, betas, translation)
+    shaped = model.v_template + jnp.einsum("vcs,bs->bvc", model.shapedirs, betas)
+    skinned = jnp.einsum("vj,bjac,bvc->bva", model.weights, rotations, shaped) + model.weights @ shifts
+    flat = dataclasses.replace(model, posedirs=jnp.zeros_like(model.posedirs))
+    np.testing.assert_allclose(skinned, body_forward_rotmats(flat, rotmats, betas, translation)[0], atol=1e-5)
 
 
 def test_shape_blend_shapes_are_linear_and_short_betas_are_zero_padded(model, fields):

@@ -2,6 +2,7 @@
 endpoint of the server, the streamed progress, the downloads, a queued second request, and a server that keeps
 serving after bad requests."""
 
+import dataclasses
 import http.client
 import io
 import json
@@ -15,10 +16,13 @@ from jaxmotion.composer.app import Composer, RequestError, read_request
 from jaxmotion.composer.server import MAX_BODY, make_server
 from jaxmotion.data import synthetic
 from jaxmotion.data.export import load_bvh
+from jaxmotion.geometry.body import load_body_model
 from jaxmotion.models.marionet import MarionetConfig, init_marionet
 from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.pipelines.marionette import ContextGenerator, start_bank
 from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path
+
+from toy_body import box_body  # noqa: E402  (tests/ is on the path)
 
 CONFIG = MarionetConfig.tiny(max_frames=40)
 
@@ -31,8 +35,9 @@ def generator():
 
 
 @pytest.fixture(scope="module")
-def served(generator):
-    composer = Composer(generator)  # no reviser: Shadow Start always or never
+def served(generator, tmp_path_factory):
+    body = load_body_model(box_body(tmp_path_factory.mktemp("body") / "boxes.npz"))
+    composer = Composer(generator, body=body)  # no reviser: Shadow Start always or never
     composer.warm_up()
     server = make_server(composer, port=0)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
@@ -110,7 +115,7 @@ def test_the_page_its_files_and_the_model_are_served(served, generator):
     status, _, body = _ask(port, "GET", "/api/model")
     model = json.loads(body)
     assert status == 200 and model["tags"] == list(generator.class_names) and model["max_frames"] == 40
-    assert model["shadow_modes"] == ["always", "never"]  # no reviser here: no Action Revision
+    assert model["shadow_modes"] == ["always", "never"] and model["body"]  # no reviser here: no Action Revision
     assert model["root_tags"][model["tags"].index("Walk")] and not model["root_tags"][model["tags"].index("Kick")]
     assert np.array_equal(model["seen"], generator.starts.transitions > 0)
 
@@ -139,6 +144,33 @@ def test_generating_streams_each_action_then_the_motion_and_its_downloads(served
     assert np.load(io.BytesIO(npz))["poses"].shape[0] == 37
     status, _, table = _ask(port, "GET", motion["downloads"]["segments.json"])
     assert [s["end"] for s in json.loads(table)["segments"]] == [15, 27, 37]
+
+
+def test_the_mesh_and_its_skinning_transforms_put_the_body_on_the_motion(served):
+    """The box body's joint vertices ride rigidly on their joints and its rest joints are the template skeleton's,
+    so skinned with the motion's transforms they land on the motion's joints."""
+    _, port = served
+    body = json.loads(_ask(port, "GET", "/api/body")[2])
+    rest = np.array(body["vertices"]).reshape(-1, 3)
+    joints_of, weights = np.array(body["joints"]).reshape(-1, 4), np.array(body["weights"]).reshape(-1, 4)
+    assert rest.shape == (24 + 23 * 8, 3) and np.array(body["faces"]).reshape(-1, 3).max() < len(rest)
+    np.testing.assert_allclose(weights.sum(axis=1), 1.0, atol=1e-3)
+    motion = _events(_ask(port, "POST", "/api/generate", PROGRAM)[2])[-1]["motion"]
+    skin = np.array(motion["skin"]).reshape(motion["frames"], 24, 12)
+    rotations, shifts = skin[..., :9].reshape(-1, 24, 3, 3), skin[..., 9:]
+    posed = np.einsum("vk,tvkab,vb->tva", weights, rotations[:, joints_of], rest) + np.einsum(
+        "vk,tvka->tva", weights, shifts[:, joints_of])
+    joints = np.array(motion["joints"]).reshape(motion["frames"], 24, 3)
+    np.testing.assert_allclose(posed[:, :24], joints, atol=2e-4)
+
+
+def test_a_body_model_must_be_on_smpls_tree_and_without_one_there_is_no_mesh(generator, tmp_path):
+    with pytest.raises(RequestError, match=r"body: the server was started without a body model \(--body-model\)"):
+        Composer(generator).body()
+    body = load_body_model(box_body(tmp_path / "boxes.npz"))
+    other = dataclasses.replace(body, parents=(-1,) + tuple(range(23)))  # a chain: not SMPL's tree
+    with pytest.raises(ValueError, match="body: expected a body model on SMPL's 24-joint tree"):
+        Composer(generator, body=other)
 
 
 def test_downloaded_bvh_holds_the_motion(served, tmp_path):

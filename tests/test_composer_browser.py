@@ -1,7 +1,9 @@
 """The composer's page in a real browser: headless Chromium (Debian's ``chromium`` and ``chromium-driver``) driven
 through WebDriver, against ``python -m jaxmotion.composer`` started on a free port. A person's session: draw a path,
 split it in two, add an in-place action, set tags and durations, generate, watch the body play, scrub, download the
-BVH and read it, save the program and load it back, and see a bad program refused with its message.
+BVH and read it, save the program and load it back, and see a bad program refused with its message. The server is
+given a body model (boxes on SMPL-24's bones, :mod:`toy_body`), so the page draws the skinned mesh; unticking "Mesh"
+draws the skeleton.
 
 ``JAXMOTION_COMPOSER_RUN``: a trained run to serve instead of the test's tiny untrained one (the screenshots in
 ``docs/composer.md`` come from the cpu MARIONET); ``JAXMOTION_COMPOSER_SHOTS``: a folder for the screenshots.
@@ -23,6 +25,7 @@ from jaxmotion.data.export import load_bvh
 from jaxmotion.models.marionet import MarionetConfig, init_marionet
 from jaxmotion.pipelines.artefacts import DataFacts
 from jaxmotion.pipelines.marionette import ContextGenerator, start_bank
+from toy_body import box_body
 
 webdriver = pytest.importorskip("selenium.webdriver")
 from selenium.webdriver.chrome.service import Service  # noqa: E402
@@ -47,8 +50,10 @@ def url(tmp_path_factory):
         params = jax.jit(init_marionet, static_argnums=1)(jax.random.key(0), config)
         run = ContextGenerator(config, params, DataFacts.of(takes), start_bank(takes, per_tag=2),
                                max_frames=40).save(tmp_path_factory.mktemp("run") / "generator")
+    body = box_body(tmp_path_factory.mktemp("body") / "boxes.npz")
     server = subprocess.Popen([sys.executable, "-m", "jaxmotion.composer", str(run), "--port", "0",
-                               "--reviser-profile", os.environ.get("JAXMOTION_COMPOSER_REVISER", "smoke")],
+                               "--reviser-profile", os.environ.get("JAXMOTION_COMPOSER_REVISER", "smoke"),
+                               "--body-model", str(body)],
                               stderr=subprocess.PIPE, text=True)
     try:
         lines = []
@@ -150,6 +155,10 @@ def test_a_person_composes_watches_downloads_and_is_told_what_is_wrong(url, brow
     assert _differing(_pixels(d), first) > 100  # the body moved; the scene around it did not
     d.execute_script("const s = document.getElementById('scrub'); s.value = Math.floor(s.max * 0.55);"
                      "s.dispatchEvent(new Event('input'));")
+    _shot(d, "composer-mesh.png")
+    mesh = _pixels(d)
+    d.find_element(By.ID, "mesh").click()  # the skeleton instead
+    assert _differing(_pixels(d), mesh) > 100
     _shot(d, "composer-playing.png")
 
     d.find_element(By.LINK_TEXT, "Download motion.bvh").click()

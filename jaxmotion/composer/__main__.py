@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from jaxmotion.composer.app import Composer
 from jaxmotion.composer.server import make_server
 from jaxmotion.evaluation.recognizers import trained_recognizer
+from jaxmotion.geometry.body import load_body_model
 from jaxmotion.pipelines.load import load_generator
 from jaxmotion.recipes.evaluators import evaluator_spec
 
@@ -30,6 +31,8 @@ def main(argv: Sequence[str] | None = None) -> None:
                         help="the classifier's training profile (default cpu; trained once, then cached)")
     parser.add_argument("--no-revision", action="store_true",
                         help="no Action Revision (no classifier to train or load): Shadow Start always or never")
+    parser.add_argument("--body-model", help="an SMPL-format body model file (.npz or .pkl, SMPL's 24 joints): the "
+                        "page then shows the mesh (none is shipped: SMPL's licence)")
     parser.add_argument("--log", action="store_true", help="log every request to stderr")
     args = parser.parse_args(argv)
     try:
@@ -37,7 +40,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         reviser = None
         if not args.no_revision and generator.method == "marionet":
             reviser, _ = trained_recognizer(evaluator_spec(args.reviser, args.reviser_profile))
-        composer = Composer(generator, reviser)
+        body = None if args.body_model is None else load_body_model(args.body_model)
+        composer = Composer(generator, reviser, body=body)
         server = make_server(composer, args.host, args.port, quiet=not args.log)
     except (ValueError, FileNotFoundError, OSError) as error:
         parser.exit(2, f"{parser.prog}: error: {error}\n")

@@ -16,7 +16,9 @@ Z = mu. Anything else is a :class:`RequestError` whose message names the action 
 :class:`Composer` generates one request at a time (a lock: a second one waits its turn, and is told so), every action
 padded to the model's longest so that any program reuses the compilation made at start-up (:meth:`Composer.warm_up`),
 keeps the last motions for download (BVH, AMASS npz, joints npy, the segment table) and reports each action as it is
-done.
+done. Given an SMPL-format body model, it also sends the page the mesh (:meth:`Composer.body`) and, with each
+motion, every frame's skinning transforms (:func:`~jaxmotion.geometry.body.skinning_transforms`: 24 x 12 numbers a
+frame), so the page skins the mesh itself.
 """
 
 from __future__ import annotations
@@ -39,6 +41,9 @@ from jaxmotion.compose import compose, unseen_pairs
 from jaxmotion.data.export import export_motions
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.segments import Program, ProgramAction
+from jaxmotion.geometry.body import BodyModel, skinning_transforms
+from jaxmotion.geometry.rotations import axis_angle_to_matrix
+from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.pipelines.marionette import ContextGenerator
 from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path
 
@@ -168,13 +173,18 @@ def read_request(payload: Any, generator: ContextGenerator) -> Request:
 class Composer:
     """A loaded generator serving the page: :meth:`model` (what the page shows), :meth:`generate` (one request at a
     time, progress reported), :meth:`download` (the last ``keep`` motions). ``reviser``: Action Revision's classifier
-    (without one, ``shadow: "revision"`` is refused)."""
+    (without one, ``shadow: "revision"`` is refused); ``body``: an SMPL-format body model on SMPL's 24-joint tree,
+    for the mesh view (:meth:`body`)."""
 
-    def __init__(self, generator: ContextGenerator, reviser: Callable | None = None, *, keep: int = 16):
+    def __init__(self, generator: ContextGenerator, reviser: Callable | None = None, *,
+                 body: BodyModel | None = None, keep: int = 16):
         if not isinstance(generator, ContextGenerator):
             raise ValueError(f"generator: the composer needs a model that continues a context (MARIONET, MANN, "
                              f"adapted A2M); got a {getattr(generator, 'method', type(generator).__name__)} one")
-        self.generator, self.reviser, self.keep = generator, reviser, keep
+        if body is not None and tuple(body.parents) != tuple(SMPL24.parents):
+            raise ValueError(f"body: expected a body model on SMPL's 24-joint tree, got {body.num_joints} joints "
+                             f"with parents {list(body.parents)}")
+        self.generator, self.reviser, self.keep, self._body = generator, reviser, keep, body
         # Shadow Start embeds poses with MARIONET's encoder; Action Revision needs its classifier
         self.shadow_modes = tuple(m for m in SHADOW_MODES if (m != "revision" or reviser is not None)
                                   and (m == "never" or generator.method == "marionet"))
@@ -189,6 +199,7 @@ class Composer:
         return {"method": g.method, "tags": list(g.class_names), "root_tags": root_tag_mask(g.class_names).tolist(),
                 "fps": g.fps, "max_frames": g.max_frames, "parents": [int(p) for p in g.facts.skeleton.parents],
                 "seen": (np.asarray(g.starts.transitions) > 0).tolist(), "shadow_modes": list(self.shadow_modes),
+                "body": self._body is not None,
                 "defaults": {"shadow": self.shadow_modes[0], "smoothing": 6, "seed": 0}}
 
     def check(self, request: Request) -> None:
@@ -233,13 +244,41 @@ class Composer:
                                {"tags": [still], "frames": 2}], "shadow": shadow or self.shadow_modes[0]}
         self.generate(read_request(payload, g))
 
+    def body(self) -> dict:
+        """The mesh for the page: the rest vertices ``[V * 3]`` (the template, mean shape), the faces ``[F * 3]``, and
+        each vertex's four largest skinning weights, renormalised, with their joints ``[V * 4]``; a
+        :class:`RequestError` (404) without a body model."""
+        if self._body is None:
+            raise RequestError("body: the server was started without a body model (--body-model)", 404)
+        weights = np.asarray(self._body.weights)
+        joints = np.argsort(-weights, axis=1)[:, :4]
+        top = np.take_along_axis(weights, joints, axis=1)
+        top = top / np.maximum(top.sum(axis=1, keepdims=True), 1e-12)
+        faces = np.zeros((0, 3), int) if self._body.faces is None else np.asarray(self._body.faces)
+        return {"vertices": np.round(np.asarray(self._body.v_template, np.float64), 5).reshape(-1).tolist(),
+                "faces": faces.reshape(-1).tolist(), "joints": joints.reshape(-1).tolist(),
+                "weights": np.round(top, 4).reshape(-1).tolist()}
+
+    def _skin(self, motion: dict) -> np.ndarray:
+        """Per frame and joint, the rotation (row by row) and shift that skin the body into the motion ``[T, 24,
+        12]``: its pelvis on the motion's root (the body's translation is the root minus the body's rest root)."""
+        rest_root = np.asarray(self._body.joint_regressor[0] @ self._body.v_template)
+        rotations, shifts = skinning_transforms(self._body, axis_angle_to_matrix(motion["rotations"]),
+                                                translation=np.asarray(motion["translation"]) - rest_root, check=False)
+        frames = len(motion["rotations"])
+        return np.concatenate([np.asarray(rotations).reshape(frames, 24, 9), np.asarray(shifts)], axis=-1)
+
     def _payload(self, motion_id: str, motion: dict, request: Request) -> dict:
         frames = len(motion["joints"])
         joints = np.round(np.asarray(motion["joints"], np.float64), 4)
-        return {"id": motion_id, "fps": self.generator.fps, "frames": frames, "joints": joints.reshape(-1).tolist(),
-                "joint_count": int(joints.shape[1]), "segments": motion["segments"],
-                "controls": [None if c is None else [list(p) for p in c] for c in request.controls],
-                "downloads": {name: f"/api/motions/{motion_id}/{name}" for name in DOWNLOADS}}
+        payload = {"id": motion_id, "fps": self.generator.fps, "frames": frames,
+                   "joints": joints.reshape(-1).tolist(), "joint_count": int(joints.shape[1]),
+                   "segments": motion["segments"],
+                   "controls": [None if c is None else [list(p) for p in c] for c in request.controls],
+                   "downloads": {name: f"/api/motions/{motion_id}/{name}" for name in DOWNLOADS}}
+        if self._body is not None:
+            payload["skin"] = np.round(self._skin(motion).astype(np.float64), 5).reshape(-1).tolist()
+        return payload
 
     def download(self, motion_id: str, name: str) -> tuple[bytes, str]:
         """A kept motion as ``name`` (one of :data:`DOWNLOADS`) -> ``(bytes, content type)``."""

@@ -3,6 +3,7 @@ standard library's threaded server (each request its own thread; generation itse
 
 * ``GET /`` and ``GET /static/<file>``: the page (``static/``: HTML, JavaScript, CSS; no library, no CDN).
 * ``GET /api/model``: the model's facts (:meth:`~jaxmotion.composer.app.Composer.model`).
+* ``GET /api/body``: the body model's mesh, when the server has one (:meth:`~jaxmotion.composer.app.Composer.body`).
 * ``POST /api/generate``: a request (:mod:`jaxmotion.composer.app`) -> a stream of JSON lines
   (``application/x-ndjson``): ``{"event": "queued"}`` when another request goes first, ``{"event": "warning",
   "message"}`` per tag pair never seen in training, ``{"event": "action", "index", "of", "shadowed", "revised"}``
@@ -75,6 +76,8 @@ class ComposerHandler(BaseHTTPRequestHandler):
                 return self._file(STATIC / name)
         elif path == "/api/model":
             return self._json(self.composer.model())
+        elif path == "/api/body":
+            return self._json(self.composer.body())
         elif match := _DOWNLOAD.match(path):
             data, content_type = self.composer.download(match["id"], match["name"])
             return self._send(data, content_type, {"Content-Disposition": f'attachment; filename="{match["name"]}"'})

@@ -252,30 +252,11 @@ def save_body_model(path: str | Path, model: BodyModel | Mapping[str, Any]) -> N
     np.savez(path, **_validate(model, str(path)))
 
 
-def body_forward_rotmats(
-    model: BodyModel,
-    rotmats: jax.Array,
-    betas: jax.Array | None = None,
-    translation: jax.Array | None = None,
-    *,
-    check: bool = True,
-) -> tuple[jax.Array, jax.Array]:
-    """Poses and skins the body from local joint rotation matrices.
-
-    Leading axes ``...`` of the three inputs broadcast against each other (e.g. one ``betas [S']``
-    for a whole ``[T, J, 3, 3]`` sequence).
-
-    Args:
-      model: the body model.
-      rotmats: [..., J, 3, 3] local (parent-relative) joint rotations, joint 0 global.
-      betas: [..., S'] shape coefficients with S' <= S; missing trailing ones count as zero. None = zeros.
-      translation: [..., 3] world translation of the whole body. None = zeros.
-      check: refuse concrete ``rotmats`` that are not rotations (skipped under ``jit``; ``False`` skins
-        any 3x3, see :func:`jaxmotion.geometry.kinematics.forward_kinematics_transforms`).
-
-    Returns:
-      vertices [..., V, 3] and joints [..., J, 3], both in world coordinates (not root-centred).
-    """
+def _posed(model: BodyModel, rotmats: jax.Array, betas: jax.Array | None, translation: jax.Array | None,
+           check: bool) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
+    """The inputs checked, then ``(v_posed [..., V, 3], rotations [..., J, 3, 3], shifts [..., J, 3], joints [..., J,
+    3])``: the shaped rest vertices with the pose correctives, and per joint the rigid map ``x -> R x + s`` that
+    carries a rest-pose point attached to it to where the posed body puts it."""
     num_joints = model.num_joints
     rotmats = jnp.asarray(rotmats)
     if rotmats.shape[-3:] != (num_joints, 3, 3):
@@ -312,13 +293,56 @@ def body_forward_rotmats(
         model.parents,
         check=False,
     )
-
     # A_j maps a rest-pose point to its posed position if rigidly attached to joint j.
     rest_to_posed = joints - _einsum("...jab,...jb->...ja", global_rotmats, rest_joints)  # [..., J, 3]
-    blend_rot = _einsum("vj,...jab->...vab", model.weights, global_rotmats)  # [..., V, 3, 3]
-    blend_trans = _einsum("vj,...ja->...va", model.weights, rest_to_posed)  # [..., V, 3]
+    return v_posed, global_rotmats, rest_to_posed, joints
+
+
+def body_forward_rotmats(
+    model: BodyModel,
+    rotmats: jax.Array,
+    betas: jax.Array | None = None,
+    translation: jax.Array | None = None,
+    *,
+    check: bool = True,
+) -> tuple[jax.Array, jax.Array]:
+    """Poses and skins the body from local joint rotation matrices.
+
+    Leading axes ``...`` of the three inputs broadcast against each other (e.g. one ``betas [S']``
+    for a whole ``[T, J, 3, 3]`` sequence).
+
+    Args:
+      model: the body model.
+      rotmats: [..., J, 3, 3] local (parent-relative) joint rotations, joint 0 global.
+      betas: [..., S'] shape coefficients with S' <= S; missing trailing ones count as zero. None = zeros.
+      translation: [..., 3] world translation of the whole body. None = zeros.
+      check: refuse concrete ``rotmats`` that are not rotations (skipped under ``jit``; ``False`` skins
+        any 3x3, see :func:`jaxmotion.geometry.kinematics.forward_kinematics_transforms`).
+
+    Returns:
+      vertices [..., V, 3] and joints [..., J, 3], both in world coordinates (not root-centred).
+    """
+    v_posed, rotations, shifts, joints = _posed(model, rotmats, betas, translation, check)
+    blend_rot = _einsum("vj,...jab->...vab", model.weights, rotations)  # [..., V, 3, 3]
+    blend_trans = _einsum("vj,...ja->...va", model.weights, shifts)  # [..., V, 3]
     vertices = _einsum("...vab,...vb->...va", blend_rot, v_posed) + blend_trans
     return vertices, joints
+
+
+def skinning_transforms(
+    model: BodyModel,
+    rotmats: jax.Array,
+    betas: jax.Array | None = None,
+    translation: jax.Array | None = None,
+    *,
+    check: bool = True,
+) -> tuple[jax.Array, jax.Array]:
+    """What a renderer skins with, per joint, for the inputs of :func:`body_forward_rotmats`: ``(rotations [..., J, 3,
+    3], shifts [..., J, 3])`` such that ``sum_j weights[v, j] (rotations_j x + shifts_j)`` is where the posed body
+    puts a shaped rest vertex ``x`` (:func:`body_forward_rotmats` without the pose correctives: a preview's
+    skinning, in ``J · 12`` numbers a frame instead of ``V · 3``)."""
+    _, rotations, shifts, _ = _posed(model, rotmats, betas, translation, check)
+    return rotations, shifts
 
 
 def body_forward(

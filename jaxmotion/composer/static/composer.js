@@ -14,6 +14,7 @@ const state = {
   mode: "idle",       // "draw" | "split" | "idle"
   drawing: null,      // the points of the curve being drawn
   dragging: false,
+  body: null,         // the body model's mesh (rest vertices, faces, four weights and joints a vertex), if any
   motion: null,       // the server's motion: joints (flat), frames, fps, segments, controls, downloads
   frame: 0,
   playing: false,
@@ -403,7 +404,7 @@ function project(p) {
   const depth = c.distance - z2;
   if (depth < 0.1) return null;
   const f = 1.2 * h;
-  return [w / 2 + f * x1 / depth, h / 2 - f * y2 / depth];
+  return [w / 2 + f * x1 / depth, h / 2 - f * y2 / depth, depth];
 }
 
 function line3d(g, a, b, pieces = 1) {  // a polyline of `pieces`, skipping what is behind the camera
@@ -451,13 +452,55 @@ function drawView() {
   const parents = state.model.parents;
   g.strokeStyle = "rgba(0, 0, 0, 0.18)"; g.lineWidth = 4;  // its shadow
   for (let j = 1; j < J; j++) { const a = joint(f, j), b = joint(f, parents[j]); line3d(g, [a[0], 0, a[2]], [b[0], 0, b[2]]); }
-  g.strokeStyle = colour; g.lineWidth = 5; g.lineCap = "round";
-  for (let j = 1; j < J; j++) line3d(g, joint(f, j), joint(f, parents[j]));
-  g.fillStyle = "#222";
-  for (let j = 0; j < J; j++) { const p = project(joint(f, j)); if (p) { g.beginPath(); g.arc(p[0], p[1], 2.5, 0, 2 * Math.PI); g.fill(); } }
+  if (state.body && m.skin && $("mesh").checked) {
+    drawMesh(g, f, colour);
+  } else {
+    g.strokeStyle = colour; g.lineWidth = 5; g.lineCap = "round";
+    for (let j = 1; j < J; j++) line3d(g, joint(f, j), joint(f, parents[j]));
+    g.fillStyle = "#222";
+    for (let j = 0; j < J; j++) { const p = project(joint(f, j)); if (p) { g.beginPath(); g.arc(p[0], p[1], 2.5, 0, 2 * Math.PI); g.fill(); } }
+  }
   const s = m.segments[segmentOf(f)];
   g.font = "14px system-ui"; g.fillStyle = "#222";
   g.fillText(`frame ${f + 1} / ${m.frames}   ${(f / m.fps).toFixed(2)} s   ${s.tags.join(" + ")}`, 10, 20);
+}
+
+// The body model's mesh at frame f: linear blend skinning of the rest vertices with the frame's per-joint transforms
+// (the server's, 12 numbers a joint), then the triangles far to near, flat shaded.
+function drawMesh(g, f, colour) {
+  const b = state.body, skin = state.motion.skin, base = f * 24 * 12, count = b.rest.length / 3;
+  const points = new Array(count), world = new Float32Array(count * 3);
+  for (let v = 0; v < count; v++) {
+    const x = b.rest[3 * v], y = b.rest[3 * v + 1], z = b.rest[3 * v + 2];
+    let px = 0, py = 0, pz = 0;
+    for (let k = 0; k < 4; k++) {
+      const w = b.weights[4 * v + k];
+      if (!w) continue;
+      const o = base + 12 * b.joints[4 * v + k];
+      px += w * (skin[o] * x + skin[o + 1] * y + skin[o + 2] * z + skin[o + 9]);
+      py += w * (skin[o + 3] * x + skin[o + 4] * y + skin[o + 5] * z + skin[o + 10]);
+      pz += w * (skin[o + 6] * x + skin[o + 7] * y + skin[o + 8] * z + skin[o + 11]);
+    }
+    world[3 * v] = px; world[3 * v + 1] = py; world[3 * v + 2] = pz;
+    points[v] = project([px, py, pz]);
+  }
+  const faces = [];
+  for (let i = 0; i < b.faces.length; i += 3) {
+    const [p, q, r] = [points[b.faces[i]], points[b.faces[i + 1]], points[b.faces[i + 2]]];
+    if (p && q && r) faces.push([i, p[2] + q[2] + r[2]]);
+  }
+  faces.sort((u, v) => v[1] - u[1]);
+  const rgb = [1, 3, 5].map((k) => parseInt(colour.slice(k, k + 2), 16));
+  const light = [0.32, 0.85, 0.42];
+  for (const [i] of faces) {
+    const [a, c, d] = [b.faces[i], b.faces[i + 1], b.faces[i + 2]].map((v) => [world[3 * v], world[3 * v + 1], world[3 * v + 2]]);
+    const e1 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]], e2 = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+    const n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+    const shade = 0.45 + 0.55 * Math.abs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / (Math.hypot(...n) || 1);
+    g.fillStyle = `rgb(${rgb.map((v) => Math.round(v * shade)).join(",")})`;
+    const [p, q, r] = [points[b.faces[i]], points[b.faces[i + 1]], points[b.faces[i + 2]]];
+    g.beginPath(); g.moveTo(p[0], p[1]); g.lineTo(q[0], q[1]); g.lineTo(r[0], r[1]); g.closePath(); g.fill();
+  }
 }
 
 function drawTimeline() {
@@ -584,12 +627,20 @@ $("generate").addEventListener("click", generate);
 $("save").addEventListener("click", saveProgram);
 $("play").addEventListener("click", () => play(!state.playing));
 $("scrub").addEventListener("input", () => { play(false); setFrame(Number($("scrub").value)); });
+$("mesh").addEventListener("change", () => drawView());
 
 fetch("/api/model").then((r) => r.json()).then((model) => {
   state.model = model;
   $("model-info").textContent = `${model.method}: ${model.tags.length} tags, ${model.fps} fps, actions up to ${(model.max_frames / model.fps).toFixed(1)} s`;
   const names = {revision: "Neural Marionette (Shadow Start on Action Revision)", always: "Shadow Start always", never: "pure pipeline"};
   model.shadow_modes.forEach((m) => $("shadow").add(new Option(names[m], m)));
+  if (model.body) {
+    $("mesh-choice").hidden = false;
+    fetch("/api/body").then((r) => r.json()).then((body) => {
+      state.body = {rest: body.vertices, faces: body.faces, joints: body.joints, weights: body.weights};
+      drawView();
+    });
+  }
   $("smoothing").value = model.defaults.smoothing;
   refresh();
   drawView();
