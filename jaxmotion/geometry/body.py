@@ -329,14 +329,8 @@ def body_forward_rotmats(
     return vertices, joints
 
 
-def skinning_transforms(
-    model: BodyModel,
-    rotmats: jax.Array,
-    betas: jax.Array | None = None,
-    translation: jax.Array | None = None,
-    *,
-    check: bool = True,
-) -> tuple[jax.Array, jax.Array]:
+def skinning_transforms(model: BodyModel, rotmats: jax.Array, betas: jax.Array | None = None,
+                        translation: jax.Array | None = None, *, check: bool = True) -> tuple[jax.Array, jax.Array]:
     """What a renderer skins with, per joint, for the inputs of :func:`body_forward_rotmats`: ``(rotations [..., J, 3,
     3], shifts [..., J, 3])`` such that ``sum_j weights[v, j] (rotations_j x + shifts_j)`` is where the posed body
     puts a shaped rest vertex ``x`` (:func:`body_forward_rotmats` without the pose correctives: a preview's
