@@ -2,8 +2,9 @@
 session (smoke data, evaluators, compiled programs) and the markers' meaning.
 
 Markers (``pyproject.toml``): ``smoke`` runs an experiment's smoke profile or trains for more than a few seconds;
-``integration`` starts subprocesses (several processes, a killed and resumed run). ``python -m pytest -m "not smoke
-and not integration"`` is the unit tier.
+``integration`` starts subprocesses (several processes, a killed and resumed run); ``browser`` drives the composer's
+page in headless Chromium (also ``integration``). ``python -m pytest -m "not smoke and not integration"`` is the
+unit tier; ``-m browser`` the browser tests alone.
 """
 
 import os
