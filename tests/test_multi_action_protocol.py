@@ -9,7 +9,7 @@ import pytest
 from jaxmotion.data import synthetic
 from jaxmotion.data.segments import label_transitions
 from jaxmotion.evaluation.actions import action_set
-from jaxmotion.evaluation.multi_action import (MultiActionProtocol, candidate_actions, evaluate_programs,
+from jaxmotion.evaluation.multi_action import (MultiActionProtocol, candidate_actions, evaluate_programs, real_windows,
                                                test_programs as make_programs)
 from jaxmotion.pipelines.multi_action import joined
 
@@ -115,6 +115,16 @@ def test_replaying_the_real_candidates_scores_perfect_accuracy_and_no_distance(d
         make_programs(jax.random.key(2), actions, np.arange(3), transitions, "some", protocol)
     with pytest.raises(ValueError, match="candidates: none"):
         make_programs(jax.random.key(2), actions, np.arange(0), transitions, "overall", protocol)
+
+
+def test_transition_fids_reference_windows_are_crops_of_the_real_takes(data):
+    _, takes, _ = data
+    windows = real_windows(jax.random.key(2), takes, 30, 6)
+    assert windows["joints"].shape == (6, 30, 24, 3) and windows["lengths"].tolist() == [30] * 6
+    for joints in windows["joints"]:  # 30 consecutive frames of one take, where they are
+        starts = [s for t in range(len(takes)) for s in range(takes.starts[t], takes.starts[t] + takes.lengths[t] - 29)
+                  if np.allclose(takes.joints[s], joints[0], atol=1e-6)]
+        assert any(np.allclose(takes.joints[s:s + 30], joints, atol=1e-6) for s in starts)
 
 
 def test_label_transitions_count_first_tags_within_takes(data):

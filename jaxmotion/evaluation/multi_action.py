@@ -40,6 +40,7 @@ import numpy as np
 
 from jaxmotion.config import check_at_least
 from jaxmotion.data.motion import MotionDataset
+from jaxmotion.data.pipeline import BatchSpec, gather_windows
 from jaxmotion.evaluation.actions import ActionSet
 from jaxmotion.geometry.kinematics import heading_transform, transform_ground_path
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
@@ -169,11 +170,8 @@ def real_windows(key: jax.Array, takes: MotionDataset, window: int, count: int) 
         raise ValueError(f"takes: none has {window} frames for a transition window")
     k_take, k_start = jax.random.split(key)
     take = np.asarray(jax.random.choice(k_take, long, (count,)))
-    start = takes.starts[take] + np.asarray(jax.random.randint(k_start, (count,), 0,
-                                                               takes.lengths[take] - window + 1))
-    frames = start[:, None] + np.arange(window)
-    return {"joints": takes.joints[frames], "rotations": takes.rotations[frames],
-            "translation": takes.translation[frames], "lengths": np.full(count, window, np.int32)}
+    # where they are in their takes, as the generated windows
+    return gather_windows(takes, take, k_start, BatchSpec(1, window, canonical=False, in_place=True))
 
 
 def _windows(motion: Mapping[str, np.ndarray], window: int) -> dict[str, np.ndarray]:
