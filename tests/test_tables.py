@@ -22,6 +22,7 @@ class Recorder:
         self.calls.append((data, key, workdir, options, resumed))
         if workdir is not None:
             (workdir / "checkpoints").mkdir(parents=True, exist_ok=True)
+            (workdir / "metrics.jsonl").write_text(f'{{"step": {self.value}}}\n')
         return self.value
 
     def generator(self, params, facts):
@@ -77,6 +78,7 @@ def test_a_row_resumes_the_finished_fit_another_table_made_with_the_same_recipe_
     resumed = {c[2].name: c[4] for c in calls if c[0] != "saved"}
     assert resumed == {"marionet": True, "mann": False}  # MANN's recipe differs: trained anew
     assert f"the same fit finished in {table_1 / 'marionet'}" in capsys.readouterr().err
+    assert (tmp_path / "multi" / "marionet" / "metrics.jsonl").read_text() == '{"step": 1}\n'  # its log as well
     for name, args in (("other-key", (Data(), jax.random.key(1))), ("other-data", (Data("OTHER"), key))):
         calls = []
         fit_rows({"MARIONET": Recorder(calls, 1)}, *args, tmp_path / name, lenders=[table_1])

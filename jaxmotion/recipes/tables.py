@@ -59,7 +59,7 @@ from jaxmotion.recipes.odmo import ODMORecipe
 from jaxmotion.train.a2m import A2MTraining
 from jaxmotion.train.actformer import ActFormerTraining
 from jaxmotion.train.actor import ActorTraining
-from jaxmotion.train.loop import CHECKPOINT_FOLDER
+from jaxmotion.train.loop import CHECKPOINT_FOLDER, TRAINING_LOG
 
 GENERATOR_FOLDER = "generator"
 
@@ -145,8 +145,8 @@ def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Arr
 
 
 def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path | None:
-    """Copy into ``folder`` (which has no checkpoints) the checkpoints of a finished row of ``lenders`` whose fit
-    record is ``record``; return that row's folder, or None."""
+    """Copy into ``folder`` (which has no checkpoints) the checkpoints and training log of a finished row of
+    ``lenders`` whose fit record is ``record``; return that row's folder, or None."""
     if (folder / CHECKPOINT_FOLDER).exists() or jax.process_count() > 1:
         return None
     for lender in lenders:
@@ -155,6 +155,8 @@ def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path |
             if row.resolve() != folder.resolve() and (row / GENERATOR_FOLDER).is_dir() and (
                     row / CHECKPOINT_FOLDER).is_dir() and read_json(path) == record:
                 shutil.copytree(row / CHECKPOINT_FOLDER, folder / CHECKPOINT_FOLDER)
+                if (row / TRAINING_LOG).is_file():  # the training the checkpoints hold, logged
+                    shutil.copy2(row / TRAINING_LOG, folder / TRAINING_LOG)
                 return row
     return None
 

@@ -52,6 +52,8 @@ from jaxmotion.progress import Progress
 
 #: A training folder's checkpoints live in ``<workdir>/CHECKPOINT_FOLDER/`` (orbax, one folder per step).
 CHECKPOINT_FOLDER = "checkpoints"
+#: The training log in a run folder: one JSON line per ``log_every`` steps (the loss terms' means) and per evaluation.
+TRAINING_LOG = "metrics.jsonl"
 
 
 class StepFn(Protocol):
@@ -113,7 +115,7 @@ def train(
 def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_from, eval_fn):
     ckpt = Checkpointer(workdir / CHECKPOINT_FOLDER, max_to_keep=config.keep_checkpoints) if workdir else None
     primary = is_primary()
-    log_path = workdir / "metrics.jsonl" if workdir and primary else None
+    log_path = workdir / TRAINING_LOG if workdir and primary else None
     try:
         if mesh is not None:
             state, key = replicate(state, mesh), replicate(key, mesh)
