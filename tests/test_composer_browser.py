@@ -6,7 +6,9 @@ given a body model (boxes on SMPL-24's bones, :mod:`toy_body`), so the page draw
 draws the skeleton.
 
 ``JAXMOTION_COMPOSER_RUN``: a trained run to serve instead of the test's tiny untrained one (the screenshots in
-``docs/composer.md`` come from the cpu MARIONET); ``JAXMOTION_COMPOSER_SHOTS``: a folder for the screenshots.
+``docs/composer.md`` come from the cpu MARIONET), with ``JAXMOTION_COMPOSER_REVISER`` the profile of its revision
+classifier (default smoke) and ``JAXMOTION_COMPOSER_CACHE`` the cache that holds it (default the test session's);
+``JAXMOTION_COMPOSER_SHOTS``: a folder for the screenshots.
 """
 
 import json
@@ -54,7 +56,8 @@ def url(tmp_path_factory):
     server = subprocess.Popen([sys.executable, "-m", "jaxmotion.composer", str(run), "--port", "0",
                                "--reviser-profile", os.environ.get("JAXMOTION_COMPOSER_REVISER", "smoke"),
                                "--body-model", str(body)],
-                              stderr=subprocess.PIPE, text=True)
+                              stderr=subprocess.PIPE, text=True, env={**os.environ, "JAXMOTION_CACHE": os.environ.get(
+                                  "JAXMOTION_COMPOSER_CACHE", os.environ["JAXMOTION_CACHE"])})
     try:
         lines = []
         for line in server.stderr:  # the command says where it serves once it has compiled
