@@ -54,8 +54,9 @@ class MarionetTraining:
     actions longer than this are left out of training (the model's longest; the paper's is unstated).
     ``length_buckets``: how many groups of similar durations batches are drawn from, each padded to its group's
     longest (:class:`~jaxmotion.data.pipeline.BatchSpec` ``buckets``; [U]: the paper does not say how batches are
-    formed); 1 pads every batch to the longest action item. The cpu and paper profiles use 4: on synth-mag's
-    durations (30-120 frames) a step then costs two thirds of a padded one, at one compilation per bucket.
+    formed); 1 (the profiles' choice for MARIONET, :data:`~jaxmotion.recipes.marionette.LENGTH_BUCKETS` says why)
+    pads every batch to the longest action item. With 4 on synth-mag's durations (30-120 frames) a step costs two
+    thirds of a padded one, at one compilation per bucket.
     """
 
     model: MarionetConfig
