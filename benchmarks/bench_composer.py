@@ -6,8 +6,8 @@
 untrained, on four takes of synth-mag (what the tests serve). The server runs in this process on a free port, as the
 command runs it: the generator loaded, Action Revision's classifier loaded (trained once and cached; ``--no-revision``
 leaves it out), the chain compiled once at start-up (:meth:`~jaxmotion.composer.app.Composer.warm_up`, timed as
-"start-up"). Then the request the issue names, 5 actions making 10 seconds (a walk along a drawn cubic, a turn, a
-run along a straight line, a kick, a wave), is sent over HTTP ``--repeats`` times for each system the server offers,
+"start-up"). Then a request of 5 actions making 10 seconds (a walk along a drawn cubic, a turn, a run along a
+straight line, a kick, a wave) is sent over HTTP ``--repeats`` times for each system the server offers,
 each timed from sending the request to the last byte of the streamed motion (the page then only parses the JSON and
 draws): medians and min-max in ms, with the time to the first action's progress line.
 """
