@@ -49,13 +49,21 @@ _POINT = re.compile(r"^(-?\d+(?:\.\d+)?),(-?\d+(?:\.\d+)?)$")
 FORMATS = {".bvh": "bvh", ".npz": "npz", ".npy": "npy"}
 
 
+def canonical_tag(tag: str, tag_names: Sequence[str]) -> str:
+    """The name in ``tag_names`` that ``tag`` spells (any case, any spacing); a ``ValueError`` listing the names."""
+    names = {" ".join(name.lower().split()): name for name in tag_names}
+    name = names.get(" ".join(tag.lower().split()))
+    if name is None:
+        raise ValueError(f"unknown tag {tag.strip()!r}; the model knows: {', '.join(tag_names)}")
+    return name
+
+
 def parse_actions(text: str, tag_names: Sequence[str], fps: float, max_frames: int) -> Program:
     """The :class:`~jaxmotion.data.segments.Program` a written list describes (module docstring); a ``ValueError``
     naming the action (its number and text) and what is wrong."""
     items = [item.strip() for item in re.split(r",\s+|;", text.strip()) if item.strip()]
     if not items:
         raise ValueError("actions: expected at least one action, e.g. \"walk 2s, kick 1.5s\"")
-    names = {" ".join(name.lower().split()): name for name in tag_names}
     actions = []
     for number, item in enumerate(items, 1):
         where = f"action {number} ({item!r})"
@@ -63,13 +71,10 @@ def parse_actions(text: str, tag_names: Sequence[str], fps: float, max_frames: i
         if match is None:
             raise ValueError(f"{where}: expected '<tags> <duration>s|f [along x,z x,z ...]', e.g. 'walk 3s along "
                              f"0,0 2,1'")
-        tags = []
-        for tag in match["tags"].split("+"):
-            key = " ".join(tag.lower().split())
-            if key not in names:
-                raise ValueError(f"{where}: tags: unknown tag {tag.strip()!r}; the model knows: "
-                                 f"{', '.join(tag_names)}")
-            tags.append(names[key])
+        try:
+            tags = [canonical_tag(tag, tag_names) for tag in match["tags"].split("+")]
+        except ValueError as error:
+            raise ValueError(f"{where}: tags: {error}") from None
         amount = float(match["amount"])
         frames = round(amount * fps) if match["unit"] == "s" else int(amount)
         if not 1 <= frames <= max_frames:

@@ -37,7 +37,7 @@ from typing import Any
 import jax
 import numpy as np
 
-from jaxmotion.compose import compose, unseen_pairs
+from jaxmotion.compose import canonical_tag, compose, unseen_pairs
 from jaxmotion.data.export import export_motions
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.segments import Program, ProgramAction
@@ -104,13 +104,12 @@ def read_action(item: Any, index: int, generator: ContextGenerator) -> tuple[Pro
     tags = [tags] if isinstance(tags, str) else tags
     if not isinstance(tags, list) or not tags or not all(isinstance(t, str) for t in tags):
         raise RequestError(f"{where}.tags: expected one or more tag names, got {json.dumps(item.get('tags'))}")
-    names = {" ".join(name.lower().split()): name for name in generator.class_names}
     known = []
     for tag in tags:
-        name = names.get(" ".join(tag.lower().split()))
-        if name is None:
-            raise RequestError(f"{where}.tags: unknown tag {tag!r}; the model knows: "
-                               f"{', '.join(generator.class_names)}")
+        try:
+            name = canonical_tag(tag, generator.class_names)
+        except ValueError as error:
+            raise RequestError(f"{where}.tags: {error}") from None
         if name in known:
             raise RequestError(f"{where}.tags: {name!r} given twice")
         known.append(name)
