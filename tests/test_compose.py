@@ -90,7 +90,10 @@ def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, cap
     assert ("never saw 'Walk' followed by 'Stand Up'" in capsys.readouterr().err) == (not seen)
     for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],
                                                                   "--out: expected a .bvh, .npz or .npy file"),
-                         (["walk 1s", "--smoothing", "-1"], "ChainOptions.smoothing: expected >= 0")):
+                         (["walk 1s", "--smoothing", "-1"], "ChainOptions.smoothing: expected >= 0"),
+                         (["walk 1s", "--gender", "female"], "--gender, --body-model: they say what an .npz"),
+                         (["walk 1s", "--betas", "1,x", "--out", str(tmp_path / "m.npz")],
+                          "--betas: expected comma-separated numbers, got '1,x'")):
         argv = [str(folder), *bad] + ([] if "--out" in bad else ["--out", str(out)])
         with pytest.raises(SystemExit) as exit_:
             main(argv)

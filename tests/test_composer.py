@@ -141,7 +141,9 @@ def test_generating_streams_each_action_then_the_motion_and_its_downloads(served
     status, _, npy = _ask(port, "GET", motion["downloads"]["motion.npy"])
     np.testing.assert_allclose(np.load(io.BytesIO(npy)), joints, atol=1e-4)
     status, _, npz = _ask(port, "GET", motion["downloads"]["motion.npz"])
-    assert np.load(io.BytesIO(npz))["poses"].shape[0] == 37
+    with np.load(io.BytesIO(npz)) as data:  # SMPL+H, trans from the box body's rest pelvis (0, 0.95, 0), z up
+        assert data["poses"].shape == (37, 156)
+        np.testing.assert_allclose(data["trans"] + [0.0, 0.95, 0.0], joints[:, 0, [0, 2, 1]] * [1, -1, 1], atol=1e-4)
     status, _, table = _ask(port, "GET", motion["downloads"]["segments.json"])
     assert [s["end"] for s in json.loads(table)["segments"]] == [15, 27, 37]
 

@@ -21,6 +21,7 @@ from jaxmotion.geometry import (
     axis_angle_to_matrix,
     euler_to_matrix,
     forward_kinematics,
+    load_body_model,
     matrix_to_axis_angle,
 )
 from jaxmotion.progress import ENV_AFTER, ENV_EVERY
@@ -272,38 +273,141 @@ def test_save_bvh_rejects_wrong_shapes_naming_field_and_expected_shape(tmp_path)
 # --- AMASS npz ---------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("up", ["z", "y"])
-def test_amass_npz_round_trip_keeps_keys_shapes_dtypes_and_joints(tmp_path, up):
+KEYS = {"smplh": ["betas", "dmpls", "gender", "mocap_framerate", "poses", "trans"],
+        "smpl": ["betas", "gender", "mocap_framerate", "poses", "trans"]}
+
+
+@pytest.mark.parametrize("layout, up", [("smplh", "z"), ("smpl", "y")])
+def test_amass_npz_round_trip_keeps_keys_shapes_dtypes_and_joints(tmp_path, layout, up):
     rotations, translation, offsets, joints = motion(4)
-    path = export.save_amass_npz(tmp_path / "m.npz", rotations, translation, FPS, up=up)
+    options = export.AmassOptions(layout=layout, up=up)
+    path = export.save_amass_npz(tmp_path / "m.npz", rotations, translation, FPS, options)
+    body = 22 if layout == "smplh" else 24
     with np.load(path) as data:
-        assert sorted(data.files) == ["betas", "gender", "mocap_framerate", "poses", "trans"]
-        assert data["poses"].shape == (FRAMES, 72) and data["poses"].dtype == np.float64
-        assert data["trans"].shape == (FRAMES, 3) and data["trans"].dtype == np.float64
-        np.testing.assert_array_equal(data["betas"], np.zeros(10))
+        assert sorted(data.files) == KEYS[layout]
+        assert data["poses"].shape == (FRAMES, {"smplh": 156, "smpl": 72}[layout])
+        assert data["poses"].dtype == data["trans"].dtype == np.float64 and data["trans"].shape == (FRAMES, 3)
+        np.testing.assert_array_equal(data["betas"], np.zeros({"smplh": 16, "smpl": 10}[layout]))
         assert data["mocap_framerate"].dtype == np.float64 and float(data["mocap_framerate"]) == FPS
         assert str(data["gender"]) == "neutral"
-        np.testing.assert_allclose(data["poses"][:, 3:], rotations[:, 1:].reshape(FRAMES, 69), atol=0)
+        np.testing.assert_allclose(data["poses"][:, 3: 3 * body], rotations[:, 1:body].reshape(FRAMES, -1), atol=0)
+        assert np.all(data["poses"][:, 3 * body:] == 0.0)  # SMPL+H's fingers at rest
+        if layout == "smplh":
+            np.testing.assert_array_equal(data["dmpls"], np.zeros((FRAMES, 8)))
     loaded, fps = export.load_amass_npz(path, up=up, offsets=offsets)
     assert fps == FPS and loaded.name == "m" and loaded.action == -1
+    # SMPL's hand joints 22 and 23 are leaves: SMPL+H drops their rotations, no joint moves
     np.testing.assert_allclose(loaded.joints, joints, rtol=0, atol=FK_ATOL)
     np.testing.assert_allclose(loaded.translation, translation, rtol=0, atol=1e-6)
-    assert_same_rotations(loaded.rotations, rotations)
+    assert_same_rotations(loaded.rotations[:, :body], rotations[:, :body])
 
 
 def test_amass_z_up_turns_the_library_up_axis_to_z(tmp_path):
     rotations, translation, _, _ = motion(4)
     root_rest = np.array([0.001, -0.22, 0.03])
-    path = export.save_amass_npz(tmp_path / "m.npz", np.zeros_like(rotations), translation, FPS,
-                                 root_rest=root_rest, betas=np.ones(16), gender="female")
+    options = export.AmassOptions(root_rest=root_rest, betas=np.ones(3), gender="female")
+    path = export.save_amass_npz(tmp_path / "m.npz", np.zeros_like(rotations), translation, FPS, options)
     with np.load(path) as data:
         # R_x(+90 deg): (x, y, z) -> (x, -z, y); SMPL's trans leaves out the rest pelvis.
         np.testing.assert_allclose(data["trans"] + root_rest, translation[:, [0, 2, 1]] * [1, -1, 1], atol=1e-6)
         root = matrices(data["poses"][:, :3])
         np.testing.assert_allclose(root @ [0.0, 1.0, 0.0], np.broadcast_to([0.0, 0.0, 1.0], (FRAMES, 3)), atol=1e-6)
-        assert data["betas"].shape == (16,) and str(data["gender"]) == "female"
+        np.testing.assert_array_equal(data["betas"], [1.0] * 3 + [0.0] * 13)  # padded to AMASS's 16, in order
+        assert str(data["gender"]) == "female"
     loaded, _ = export.load_amass_npz(path, root_rest=root_rest)
     np.testing.assert_allclose(loaded.translation, translation, rtol=0, atol=1e-6)
+
+
+# SMPL+H's kinematic tree as its model files write it (kintree_table row 0): SMPL's 22 body joints, then the
+# left hand's 15 finger joints (index, middle, little, ring, thumb; 3 each, the first on the left wrist, 20),
+# then the right hand's (on the right wrist, 21). Written out here, not taken from the library.
+SMPLH_PARENTS = ([-1, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9, 12, 13, 14, 16, 17, 18, 19]
+                 + [p for wrist, first in ((20, 22), (21, 37)) for f in range(5)
+                    for p in (wrist, first + 3 * f, first + 3 * f + 1)])
+
+
+def smplh_file(path, rest, *, betas_shift):
+    """An SMPL+H-format model file (one vertex on each joint, J_regressor the identity, 16 betas) whose rest body
+    joints are ``rest [22, 3]`` at betas = 0, fingers 3 cm apart beyond each wrist; beta 0 lifts the whole body by
+    ``betas_shift`` (its rest pelvis moves with the shape, its bone lengths do not)."""
+    fingers = [rest[20 + hand] + [0.03 * (1 - 2 * hand) * (1 + k % 3), 0.0, 0.01 * (k // 3)]
+               for hand in (0, 1) for k in range(15)]
+    vertices = np.concatenate([rest, fingers]).astype(np.float32)
+    shapedirs = np.zeros((52, 3, 16), np.float32)
+    shapedirs[:, :, 0] = betas_shift
+    np.savez(path, v_template=vertices, shapedirs=shapedirs, posedirs=np.zeros((52, 3, 459), np.float32),
+             J_regressor=np.eye(52, dtype=np.float32), weights=np.eye(52, dtype=np.float32),
+             kintree_table=np.stack([np.where(np.array(SMPLH_PARENTS) < 0, 2 ** 32 - 1, SMPLH_PARENTS),
+                                     np.arange(52)]).astype(np.int64))
+    return path
+
+
+def rodrigues(axis_angle):
+    """``[..., 3]`` axis-angle -> ``[..., 3, 3]``, float64, written out (the reader borrows nothing)."""
+    angle = np.linalg.norm(axis_angle, axis=-1, keepdims=True)[..., None]
+    k = axis_angle / np.maximum(np.linalg.norm(axis_angle, axis=-1, keepdims=True), 1e-12)
+    cross = np.zeros(k.shape[:-1] + (3, 3))
+    cross[..., 0, 1], cross[..., 0, 2], cross[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
+    cross = cross - np.swapaxes(cross, -1, -2)
+    return np.eye(3) + np.sin(angle) * cross + (1 - np.cos(angle)) * cross @ cross
+
+
+def pose_amass_file(npz_path, model_path):
+    """An independent reading: the joints ``[T, J, 3]`` (the file's world) a body model file puts where an AMASS
+    file says, as SMPL does: rest joints = J_regressor (v_template + shapedirs betas); each joint's world
+    transform = its parent's composed with (R_j, rest offset); the root at J_0 + trans."""
+    with np.load(npz_path) as data, np.load(model_path) as model:
+        parents = [int(p) if p < len(model["kintree_table"][0]) else -1 for p in model["kintree_table"][0]]
+        betas = data["betas"][: model["shapedirs"].shape[-1]]
+        rest = model["J_regressor"] @ (model["v_template"] + model["shapedirs"] @ betas)
+        rotations = rodrigues(data["poses"].reshape(len(data["poses"]), -1, 3))
+        trans = data["trans"]
+    frames, joints = len(trans), len(parents)
+    world_rotations, positions = np.zeros((frames, joints, 3, 3)), np.zeros((frames, joints, 3))
+    for j, p in enumerate(parents):  # parents come before children in SMPL's order
+        if p < 0:
+            world_rotations[:, j], positions[:, j] = rotations[:, j], rest[j] + trans
+        else:
+            world_rotations[:, j] = world_rotations[:, p] @ rotations[:, j]
+            positions[:, j] = positions[:, p] + world_rotations[:, p] @ (rest[j] - rest[p])
+    return positions
+
+
+@pytest.mark.parametrize("layout", ["smplh", "smpl"])
+def test_amass_npz_posed_by_an_independent_reading_of_the_body_model_gives_the_motions_joints(tmp_path, layout):
+    rotations, translation, offsets, joints = motion(5)
+    pelvis = np.array([0.0, 0.9, 0.02])  # the model's rest pelvis at betas = 0, not the origin
+    rest = fk(np.zeros((1, 24, 3)), pelvis[None], offsets)[0]
+    betas = np.array([0.5, 0.0, -1.0])
+    if layout == "smplh":
+        model = smplh_file(tmp_path / "smplh.npz", rest[:22], betas_shift=[0.02, 0.1, -0.03])
+    else:
+        model = tmp_path / "smpl.npz"
+        shapedirs = np.zeros((24, 3, 10), np.float32)
+        shapedirs[:, :, 0] = [0.02, 0.1, -0.03]
+        np.savez(model, v_template=rest.astype(np.float32), shapedirs=shapedirs, posedirs=np.zeros((24, 3, 207)),
+                 J_regressor=np.eye(24), weights=np.eye(24), kintree_table=np.stack([SMPL24.parents, np.arange(24)]))
+    options = export.AmassOptions.for_body(load_body_model(model), betas, layout=layout, gender="male")
+    path = export.save_amass_npz(tmp_path / "m.npz", rotations, translation, FPS, options)
+    posed = pose_amass_file(path, model)
+    z_up = joints[..., [0, 2, 1]] * [1, -1, 1]  # the library's y up as AMASS's z up: R_x(+90 deg)
+    body = 22 if layout == "smplh" else 24
+    np.testing.assert_allclose(posed[:, :body], z_up[:, :body], rtol=0, atol=FK_ATOL)
+    # the file read back with the same model puts the root where it was
+    loaded, _ = export.load_amass_npz(path, offsets=offsets, body=load_body_model(model))
+    np.testing.assert_allclose(loaded.joints, joints, rtol=0, atol=FK_ATOL)
+
+
+def test_amass_options_refuse_bad_values_naming_the_field(tmp_path):
+    for fields, message in [({"layout": "smplx"}, "layout: expected one of ['smplh', 'smpl'], got 'smplx'"),
+                            ({"gender": "other"}, "gender: expected one of ['neutral', 'male', 'female']"),
+                            ({"up": "x"}, "up: expected 'z'"), ({"betas": [np.nan]}, "betas: 1 non-finite values"),
+                            ({"root_rest": [0.0, 1.0]}, "root_rest: expected [3], got (2,)")]:
+        with pytest.raises(ValueError, match=re.escape(message)):
+            export.AmassOptions(**fields)
+    model = load_body_model(smplh_file(tmp_path / "smplh.npz", np.zeros((22, 3)), betas_shift=0.0))
+    with pytest.raises(ValueError, match=re.escape("betas: the body model has 16 shape coefficients, got 17")):
+        export.AmassOptions.for_body(model, np.zeros(17))
 
 
 def test_load_amass_npz_reads_smplh_poses_of_real_amass_files(tmp_path):

@@ -38,10 +38,10 @@ import jax
 import numpy as np
 
 from jaxmotion.compose import canonical_tag, compose, unseen_pairs
-from jaxmotion.data.export import export_motions
+from jaxmotion.data.export import AmassOptions, export_motions
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.segments import Program, ProgramAction
-from jaxmotion.geometry.body import BodyModel, skinning_transforms
+from jaxmotion.geometry.body import BodyModel, rest_joints, skinning_transforms
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.pipelines.marionette import ContextGenerator
@@ -184,6 +184,8 @@ class Composer:
             raise ValueError(f"body: expected a body model on SMPL's 24-joint tree, got {body.num_joints} joints "
                              f"with parents {list(body.parents)}")
         self.generator, self.reviser, self.keep, self._body = generator, reviser, keep, body
+        # the npz download's trans follows the body model's rest pelvis (AMASS's convention) when there is one
+        self._amass = AmassOptions() if body is None else AmassOptions.for_body(body)
         # Shadow Start embeds poses with MARIONET's encoder; Action Revision needs its classifier
         self.shadow_modes = tuple(m for m in SHADOW_MODES if (m != "revision" or reviser is not None)
                                   and (m == "never" or generator.method == "marionet"))
@@ -261,7 +263,7 @@ class Composer:
     def _skin(self, motion: dict) -> np.ndarray:
         """Per frame and joint, the rotation (row by row) and shift that skin the body into the motion ``[T, 24,
         12]``: its pelvis on the motion's root (the body's translation is the root minus the body's rest root)."""
-        rest_root = np.asarray(self._body.joint_regressor[0] @ self._body.v_template)
+        rest_root = np.asarray(rest_joints(self._body)[0])
         rotations, shifts = skinning_transforms(self._body, axis_angle_to_matrix(motion["rotations"]),
                                                 translation=np.asarray(motion["translation"]) - rest_root, check=False)
         frames = len(motion["rotations"])
@@ -293,5 +295,5 @@ class Composer:
         batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
         with tempfile.TemporaryDirectory() as folder:
             written = export_motions(folder, batch, self.generator.facts.skeleton, self.generator.fps,
-                                     formats=(fmt,), names=["motion"])
+                                     formats=(fmt,), names=["motion"], amass=self._amass)
             return Path(written[0]).read_bytes(), content_type

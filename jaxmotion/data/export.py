@@ -10,17 +10,24 @@ Axes: N motions, T frames, J joints. Inputs are in the library frame (metres, +Y
 Formats:
 
 * ``.npy``: the joint positions ``[T, J, 3]`` float32, library frame. Any skeleton, rotations not needed.
-* ``.npz``, AMASS's layout for SMPL: ``poses [T, 72]`` float64 axis-angle (24 joints x 3, SMPL's joint
-  order, joint 0 = global orientation), ``trans [T, 3]`` float64, ``betas [10]`` float64 (zeros unless
-  given), ``mocap_framerate`` (0-d float64) and ``gender`` (0-d string, ``"neutral"`` by default). Only for
-  the 24-joint SMPL tree. AMASS's world is z up, the library's y up: with ``up="z"`` (the default) the
-  writer turns the world by ``R_x(+90 deg)`` (library +Y -> +Z, library +Z -> -Y), through the global
-  orientation and the translation, and :func:`load_amass_npz` turns it back; ``up="y"`` writes the library
-  frame as it is. SMPL puts joint 0 at ``J_0(betas) + trans``, where ``J_0`` is the body model's rest
-  pelvis; pass it as ``root_rest`` to write the ``trans`` a body model expects (default zeros: ``trans`` is
-  the root position). The file holds no bone lengths: a body's shape comes from ``betas`` and the model,
-  so joints read back by :func:`load_amass_npz` are forward kinematics on the offsets the caller gives
-  (the SMPL-24 template by default), not a body model's joints.
+* ``.npz``, AMASS's layout (:class:`AmassOptions`), only for the 24-joint SMPL tree. By default SMPL+H, as
+  AMASS's own files and the tools that read them (AMASS's loaders, aitviewer, HumanML3D's preprocessing):
+  ``poses [T, 156]`` float64 axis-angle (SMPL+H's 52 joints x 3: joint 0 = global orientation, the 21 other
+  body joints in SMPL's order, then 15 left-hand and 15 right-hand finger joints, written at rest: zeros; SMPL's
+  two hand joints 22 and 23, leaves that move no joint, have no place in SMPL+H), ``trans [T, 3]`` float64,
+  ``betas [16]`` float64 (zeros unless given), ``dmpls [T, 8]`` (zeros: no soft tissue), ``mocap_framerate``
+  (0-d float64) and ``gender`` (0-d string, ``"neutral"`` by default). ``layout="smpl"``: ``poses [T, 72]`` (24
+  joints) and ``betas [10]``, no ``dmpls``. AMASS's world is z up, the library's y up: with ``up="z"`` (the
+  default) the writer turns the world by ``R_x(+90 deg)`` (library +Y -> +Z, library +Z -> -Y), through the
+  global orientation and the translation, and :func:`load_amass_npz` turns it back; ``up="y"`` writes the
+  library frame as it is. **trans**: SMPL and SMPL+H put the pelvis at ``J_0(betas) + trans``, where ``J_0`` is
+  the body model's rest pelvis for the file's betas (its frame, not turned); with a body model
+  (:meth:`AmassOptions.for_body`) the writer subtracts it, so that a reader posing the file with that model puts
+  the pelvis on the motion's root. Without one ``J_0`` counts as zero and ``trans`` is the root position. The
+  file holds no bone lengths: the body's shape comes from ``betas`` and the model, so its joints are the
+  motion's only where the model's rest skeleton for those betas has the motion's bone lengths; joints read back
+  by :func:`load_amass_npz` are forward kinematics on the offsets the caller gives (the SMPL-24 template by
+  default).
 * ``.bvh``: the skeleton's tree with the motion's own rest offsets (:func:`rest_offsets`, from frame 0),
   joints written depth-first (children in joint order), one ``End Site`` per leaf. The root has six
   channels (``Xposition Yposition Zposition`` then three rotations), every other joint three rotations,
@@ -47,6 +54,8 @@ rotations, posed on the bone vectors of frame 0.
 
 from __future__ import annotations
 
+import argparse
+import dataclasses
 import functools
 import itertools
 import math
@@ -60,6 +69,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxmotion.data.motion import Motion, MotionDataset
+from jaxmotion.geometry.body import BodyModel, load_body_model, rest_joints
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import (
     EULER_ORDERS,
@@ -72,8 +82,8 @@ from jaxmotion.geometry.skeletons import SMPL24, Skeleton, topological_order
 from jaxmotion.progress import phase
 
 __all__ = [
-    "FORMATS", "BvhMotion", "export_motions", "load_amass_npz", "load_bvh", "rest_offsets", "save_amass_npz",
-    "save_bvh", "save_joints_npy",
+    "FORMATS", "AmassOptions", "BvhMotion", "amass_arguments", "amass_options", "export_motions", "load_amass_npz",
+    "load_bvh", "rest_offsets", "save_amass_npz", "save_bvh", "save_joints_npy",
 ]
 
 #: File formats of :func:`export_motions`, by file extension.
@@ -83,10 +93,12 @@ _GENDERS = ("neutral", "male", "female")
 # AMASS z up from the library's y up: R_x(+90 deg), acting on column vectors.
 _Y_UP_TO_Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 _UP_TURNS = {"z": _Y_UP_TO_Z_UP, "y": np.eye(3)}
-_SMPL_BETAS = 10
 # Widths of AMASS ``poses``: SMPL (24 joints) and SMPL+H (22 body joints, then 30 finger joints that replace
 # SMPL's two hand joints).
 _SMPL_POSE, _SMPLH_POSE, _BODY_JOINTS = 72, 156, 22
+#: Per layout: the width of ``poses`` and of ``betas`` (SMPL's 10; AMASS's SMPL+H files carry 16).
+_LAYOUTS = {"smplh": (_SMPLH_POSE, 16), "smpl": (_SMPL_POSE, 10)}
+_DMPLS = 8  # AMASS's soft-tissue coefficients per frame (DMPL); written as zeros: no soft tissue
 _VALUE_FORMAT = "%.6f"  # metres and degrees: 1e-6 m, and 2e-8 rad, far inside the 1e-4 m round trip
 _AXES = "XYZ"
 
@@ -245,44 +257,116 @@ def save_joints_npy(path: str | Path, joints) -> Path:
 # --- AMASS npz ---------------------------------------------------------------------------------------------
 
 
-def save_amass_npz(path: str | Path, rotations, translation, fps: float, *, betas=None, gender: str = "neutral",
-                   up: str = "z", root_rest=None) -> Path:
-    """Write SMPL parameters in AMASS's ``.npz`` layout (see the module docstring).
+@dataclasses.dataclass(frozen=True)
+class AmassOptions:
+    """What an AMASS ``.npz`` says beyond the motion's rotations and root path (see the module docstring).
+
+    Attributes:
+      layout: ``"smplh"`` (AMASS's own files: ``poses [T, 156]``, hands at rest, ``dmpls``) or ``"smpl"``
+        (``poses [T, 72]``).
+      betas: shape coefficients; written padded with zeros to the layout's width (16 for SMPL+H as in AMASS, 10 for
+        SMPL), never cut.
+      gender: ``"neutral"``, ``"male"`` or ``"female"`` (which body model a reader loads).
+      up: ``"z"``: AMASS's z-up world (``R_x(+90 deg)`` applied); ``"y"``: the library frame.
+      root_rest: the body model's rest pelvis ``J_0(betas)`` (its frame, metres): ``trans`` is the root position
+        minus it, SMPL's convention. ``None``: zeros, ``trans`` is the root position; :meth:`for_body` fills it from a
+        body model.
+    """
+
+    layout: str = "smplh"
+    betas: tuple[float, ...] = ()
+    gender: str = "neutral"
+    up: str = "z"
+    root_rest: tuple[float, float, float] | None = None
+
+    def __post_init__(self):
+        if self.layout not in _LAYOUTS:
+            raise ValueError(f"layout: expected one of {list(_LAYOUTS)}, got {self.layout!r}")
+        if len(self.betas):
+            object.__setattr__(self, "betas", tuple(float(b) for b in _array(self.betas, "betas", (None,), "[S]")))
+        if self.gender not in _GENDERS:
+            raise ValueError(f"gender: expected one of {list(_GENDERS)}, got {self.gender!r}")
+        _check_up(self.up)
+        if self.root_rest is not None:
+            object.__setattr__(self, "root_rest", tuple(float(v) for v in _root_rest(self.root_rest)))
+
+    @classmethod
+    def for_body(cls, body: BodyModel, betas=(), **options) -> AmassOptions:
+        """Options whose ``trans`` follows ``body``'s convention for ``betas``: ``root_rest`` is its rest pelvis
+        ``J_0(betas)`` (:func:`~jaxmotion.geometry.body.rest_joints`), so that a reader posing the file with that
+        model for these betas puts the pelvis on the motion's root."""
+        betas = tuple(float(b) for b in np.ravel(betas))
+        if len(betas) > body.num_betas:
+            raise ValueError(f"betas: the body model has {body.num_betas} shape coefficients, got {len(betas)}")
+        pelvis = np.asarray(rest_joints(body, np.asarray(betas, np.float32))[0], np.float64)
+        return cls(betas=betas, root_rest=tuple(pelvis), **options)
+
+
+def amass_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the flags of :class:`AmassOptions` to a command line (the compose command, every experiment's
+    ``--export``); :func:`amass_options` reads them back."""
+    group = parser.add_argument_group("AMASS npz files")
+    group.add_argument("--npz-layout", choices=list(_LAYOUTS), default="smplh",
+                       help="smplh: poses [T, 156] as AMASS's own files (default); smpl: poses [T, 72]")
+    group.add_argument("--betas", default="", metavar="B1,B2,...", help="the body's shape coefficients (default zeros)")
+    group.add_argument("--gender", choices=_GENDERS, default="neutral", help="the body model a reader loads")
+    group.add_argument("--body-model", metavar="FILE",
+                       help="an SMPL(+H)-format body model (.npz or .pkl): trans follows its rest pelvis for the "
+                            "betas, so that the model posed by the file stands on the motion's root (without one, "
+                            "trans is the root position)")
+
+
+def amass_options(args: argparse.Namespace) -> AmassOptions:
+    """The :class:`AmassOptions` the flags of :func:`amass_arguments` ask for (the body model loaded)."""
+    try:
+        betas = tuple(float(b) for b in args.betas.split(",") if b.strip())
+    except ValueError:
+        raise ValueError(f"--betas: expected comma-separated numbers, got {args.betas!r}") from None
+    options = {"layout": args.npz_layout, "gender": args.gender}
+    if args.body_model:
+        return AmassOptions.for_body(load_body_model(args.body_model), betas, **options)
+    return AmassOptions(betas=betas, **options)
+
+
+def save_amass_npz(path: str | Path, rotations, translation, fps: float,
+                   options: AmassOptions = AmassOptions()) -> Path:
+    """Write SMPL+H (default) or SMPL parameters in AMASS's ``.npz`` layout (see the module docstring).
 
     Args:
       rotations: ``[T, 24, 3]`` local axis-angle on the SMPL-24 tree, joint 0 global (library frame).
       translation: ``[T, 3]`` root (joint 0) positions, library frame.
       fps: frames per second (``mocap_framerate``).
-      betas: ``[S]`` shape coefficients, or ``None`` for 10 zeros.
-      gender: ``"neutral"``, ``"male"`` or ``"female"``.
-      up: ``"z"`` writes AMASS's z-up world (``R_x(+90 deg)`` applied), ``"y"`` the library frame.
-      root_rest: ``[3]`` the body model's rest position of joint 0 for these betas; ``trans`` is the root
-        position minus it (SMPL's convention). ``None``: zeros.
+      options: layout, betas, gender, up axis and the body model's rest pelvis (:class:`AmassOptions`).
     """
     rotations = _array(rotations, "rotations", (None, 24, 3), "[T, 24, 3]")
     frames = rotations.shape[0]
     translation = _array(translation, "translation", (frames, 3), f"[T, 3] = ({frames}, 3)")
-    fps, turn = _check_fps(fps), _check_up(up)
-    betas = np.zeros(_SMPL_BETAS) if betas is None else _array(betas, "betas", (None,), "[S]")
-    if gender not in _GENDERS:
-        raise ValueError(f"gender: expected one of {list(_GENDERS)}, got {gender!r}")
-    poses = rotations.astype(np.float64)
+    fps, turn = _check_fps(fps), _check_up(options.up)
+    width, betas_width = _LAYOUTS[options.layout]
+    body = 24 if options.layout == "smpl" else _BODY_JOINTS
+    poses = np.zeros((frames, width // 3, 3))
+    poses[:, :body] = rotations[:, :body]
     poses[:, 0] = _rows(_turn, rotations[:, 0], turn)
-    trans = translation.astype(np.float64) @ turn.T - _root_rest(root_rest)
+    trans = translation.astype(np.float64) @ turn.T - _root_rest(options.root_rest)
+    betas = np.zeros(max(betas_width, len(options.betas)))
+    betas[: len(options.betas)] = options.betas
+    extra = {"dmpls": np.zeros((frames, _DMPLS))} if options.layout == "smplh" else {}
     path = Path(path)
     with path.open("wb") as file:  # a file object: np.savez would append ".npz" to a path lacking it
-        np.savez(file, poses=poses.reshape(frames, _SMPL_POSE), trans=trans, betas=betas.astype(np.float64),
-                 mocap_framerate=np.float64(fps), gender=np.array(gender))
+        np.savez(file, poses=poses.reshape(frames, width), trans=trans, betas=betas,
+                 mocap_framerate=np.float64(fps), gender=np.array(options.gender), **extra)
     return path
 
 
-def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=None) -> tuple[Motion, float]:
+def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=None,
+                   body: BodyModel | None = None) -> tuple[Motion, float]:
     """Read an AMASS-layout ``.npz`` (this module's, or AMASS's own SMPL+H files) into the library frame.
 
     ``poses`` may be ``[T, 72]`` (SMPL) or ``[T, 156]`` (SMPL+H: the 22 body joints are kept and SMPL's two
-    hand joints get no rotation). ``up`` and ``root_rest`` mean what they mean for :func:`save_amass_npz`
-    and undo it. Joints are forward kinematics on ``offsets`` (``[24, 3]``, default the SMPL-24 template),
-    not a body model's joints for the file's betas.
+    hand joints get no rotation). ``up`` and ``root_rest`` mean what they mean for :class:`AmassOptions` and undo
+    it; or ``body``: the body model whose rest pelvis for the file's ``betas`` is ``root_rest``. Joints are forward
+    kinematics on ``offsets`` (``[24, 3]``, default the SMPL-24 template), not a body model's joints for the
+    file's betas.
 
     Returns:
       ``(motion, fps)``: a ``Motion`` with rotations ``[T, 24, 3]``, translation and joints (action -1: the
@@ -290,6 +374,8 @@ def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=N
     """
     path = Path(path)
     turn = _check_up(up)
+    if body is not None and root_rest is not None:
+        raise ValueError("root_rest, body: give one of them (body: its rest pelvis for the file's betas)")
     offsets = SMPL24.offsets if offsets is None else _array(offsets, "offsets", (24, 3), "[24, 3]")
     with np.load(path, allow_pickle=False) as data:
         missing = [key for key in ("poses", "trans", "mocap_framerate") if key not in data.files]
@@ -297,6 +383,12 @@ def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=N
             raise ValueError(f"{path}: missing {missing}; an AMASS file has poses, trans, betas, mocap_framerate, "
                              f"gender (found {sorted(data.files)})")
         poses, trans, fps = data["poses"], data["trans"], float(data["mocap_framerate"])
+        betas = np.ravel(data["betas"]) if "betas" in data.files else np.zeros(0)
+    if body is not None:
+        if np.any(betas[body.num_betas:] != 0):
+            raise ValueError(f"{path}: betas: {len(betas)} shape coefficients, non-zero past the body model's "
+                             f"{body.num_betas}")
+        root_rest = rest_joints(body, np.asarray(betas[: body.num_betas], np.float32))[0]
     width = poses.shape[-1] if poses.ndim == 2 else None
     if width not in (_SMPL_POSE, _SMPLH_POSE) or len(poses) < 1:
         raise ValueError(f"{path}: poses: expected [T, {_SMPL_POSE}] (SMPL) or [T, {_SMPLH_POSE}] (SMPL+H), "
@@ -657,7 +749,7 @@ def _file_names(names, defaults: Sequence[str]) -> list[str]:
 
 def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleton: Skeleton | None = None,
                    fps: float | None = None, formats: Sequence[str] = FORMATS, names: Sequence[str] | None = None,
-                   *, order: str = "ZXY", up: str = "z") -> list[Path]:
+                   *, order: str = "ZXY", amass: AmassOptions = AmassOptions()) -> list[Path]:
     """Write every motion in every format: ``folder/<name>.<format>``, exactly each motion's own frames.
 
     Args:
@@ -672,7 +764,7 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
       names: one file stem per motion; default the dataset's clip names (characters other than letters,
         digits and ``._#+-`` replaced by ``_``), or ``0000``, ``0001``, ... for a batch.
       order: the BVH Euler order (see :func:`save_bvh`).
-      up: the AMASS world's up axis (see :func:`save_amass_npz`).
+      amass: the npz files' layout, betas, gender, up axis and body model convention (:class:`AmassOptions`).
 
     Returns:
       The paths written, motion by motion, in the order of ``formats``. Everything is checked before the
@@ -701,7 +793,6 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
     if rotation_formats:
         fps = _check_fps(fps)
         _check_order(order)
-        _check_up(up)
         for field in ("rotations", "translation"):
             if clips and getattr(clips[0], field) is None:
                 raise ValueError(f"{rotation_formats[0]}: needs {field} ([N, T, J, 3] axis-angle rotations and "
@@ -728,7 +819,7 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
                 if fmt == "npy":
                     written.append(save_joints_npy(path, clip.joints))
                 elif fmt == "npz":
-                    written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, up=up))
+                    written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, amass))
                 else:
                     offsets = rest_offsets(clip.rotations, clip.joints, skeleton.parents)
                     written.append(save_bvh(path, clip.rotations, clip.translation, offsets, skeleton.parents,

@@ -5,7 +5,9 @@ Rotations act on column vectors; quaternions are (w, x, y, z); 6D is the first t
 Euler angles follow BVH (order "ZXY": R = R_z @ R_x @ R_y).
 """
 
-from jaxmotion.geometry.body import BodyModel, body_forward, body_forward_rotmats, load_body_model, save_body_model
+from jaxmotion.geometry.body import (
+    BodyModel, body_forward, body_forward_rotmats, load_body_model, rest_joints, save_body_model, skinning_transforms,
+)
 from jaxmotion.geometry.kinematics import (
     apply_transform,
     bone_lengths,
@@ -52,7 +54,8 @@ from jaxmotion.geometry.skeletons import (
 )
 
 __all__ = [
-    "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model",
+    "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "save_body_model",
+    "skinning_transforms",
     "apply_transform", "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",
     "forward_kinematics_transforms", "heading_transform", "humanact12_to_library_frame", "inverse_transform",
     "library_to_humanact12_frame", "root_relative", "root_trajectory", "transform_motion", "transform_root",

@@ -43,7 +43,8 @@ from jaxmotion.geometry.kinematics import forward_kinematics_transforms
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, check_rotations
 from jaxmotion.geometry.skeletons import topological_order
 
-__all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "save_body_model"]
+__all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "save_body_model",
+           "skinning_transforms"]
 
 # Default matmul precision on GPU/TPU (TF32/bf16) would put millimetre errors on the vertices.
 _einsum = functools.partial(jnp.einsum, precision=jax.lax.Precision.HIGHEST)
@@ -252,6 +253,28 @@ def save_body_model(path: str | Path, model: BodyModel | Mapping[str, Any]) -> N
     np.savez(path, **_validate(model, str(path)))
 
 
+def _betas(model: BodyModel, betas: jax.Array | None, dtype) -> jax.Array:
+    betas = jnp.zeros((0,), dtype) if betas is None else jnp.asarray(betas)
+    if betas.ndim < 1 or betas.shape[-1] > model.num_betas:
+        raise ValueError(f"betas must have shape [..., S'] with S' <= {model.num_betas}; got {betas.shape}")
+    return betas
+
+
+def _shaped(model: BodyModel, betas: jax.Array) -> jax.Array:
+    """``[..., V, 3]`` the rest-pose vertices for ``betas [..., S']``: zero-padding betas to S equals using only the
+    first S' blend shapes."""
+    return model.v_template + _einsum("vcs,...s->...vc", model.shapedirs[..., : betas.shape[-1]], betas)
+
+
+def rest_joints(model: BodyModel, betas: jax.Array | None = None) -> jax.Array:
+    """``[..., J, 3]`` the body's joints in the rest pose for shape ``betas [..., S']`` (S' <= S; None: the mean
+    shape), in the model's frame without translation: where :func:`body_forward_rotmats` puts them for identity
+    rotations and zero translation. Joint 0's row is SMPL's ``J_0(betas)``: a posed body's root sits at
+    ``J_0(betas) + translation``, which is how AMASS's ``trans`` is meant (:mod:`jaxmotion.data.export`)."""
+    betas = _betas(model, betas, model.v_template.dtype)
+    return _einsum("jv,...vc->...jc", model.joint_regressor, _shaped(model, betas))
+
+
 def _posed(model: BodyModel, rotmats: jax.Array, betas: jax.Array | None, translation: jax.Array | None,
            check: bool) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
     """The inputs checked, then ``(v_posed [..., V, 3], rotations [..., J, 3, 3], shifts [..., J, 3], joints [..., J,
@@ -263,17 +286,13 @@ def _posed(model: BodyModel, rotmats: jax.Array, betas: jax.Array | None, transl
         raise ValueError(f"rotmats must have shape [..., {num_joints}, 3, 3]; got {rotmats.shape}")
     if check:
         check_rotations(rotmats, where="body_forward_rotmats: rotmats", allow_nonfinite=True)
-    betas = jnp.zeros((0,), rotmats.dtype) if betas is None else jnp.asarray(betas)
+    betas = _betas(model, betas, rotmats.dtype)
     translation = jnp.zeros((3,), rotmats.dtype) if translation is None else jnp.asarray(translation)
-    if betas.ndim < 1 or betas.shape[-1] > model.num_betas:
-        raise ValueError(f"betas must have shape [..., S'] with S' <= {model.num_betas}; got {betas.shape}")
     if translation.ndim < 1 or translation.shape[-1] != 3:
         raise ValueError(f"translation must have shape [..., 3]; got {translation.shape}")
     batch = jnp.broadcast_shapes(rotmats.shape[:-3], betas.shape[:-1], translation.shape[:-1])
 
-    # Zero-padding betas to S equals using only the first S' blend shapes.
-    shapedirs = model.shapedirs[..., : betas.shape[-1]]
-    v_shaped = model.v_template + _einsum("vcs,...s->...vc", shapedirs, betas)  # [..., V, 3]
+    v_shaped = _shaped(model, betas)  # [..., V, 3]
     rest_joints = _einsum("jv,...vc->...jc", model.joint_regressor, v_shaped)  # [..., J, 3]
 
     # Pose correctives vanish at the rest pose because they are driven by R - I, not R.
