@@ -19,6 +19,7 @@ from jaxmotion.geometry.body import (
     body_forward,
     body_forward_rotmats,
     load_body_model,
+    rest_joints,
     save_body_model,
     skinning_transforms,
 )
@@ -187,6 +188,15 @@ def test_shape_blend_shapes_are_linear_and_short_betas_are_zero_padded(model, fi
     short, _ = _forward(model, _zero_pose(), jnp.array([1.5, -0.7]), jnp.zeros(3))
     padded, _ = _forward(model, _zero_pose(), jnp.array([1.5, -0.7, 0.0]), jnp.zeros(3))
     np.testing.assert_allclose(short, padded, atol=1e-6)
+
+
+def test_rest_joints_are_the_regressed_shaped_template_where_the_unposed_body_puts_its_joints(model, fields):
+    betas = np.array([1.5, -0.7, 2.0], np.float32)
+    expected = fields["J_regressor"] @ (fields["v_template"] + fields["shapedirs"][..., :3] @ betas)
+    np.testing.assert_allclose(rest_joints(model, betas), expected, atol=1e-5)
+    _, joints = _forward(model, _zero_pose(), betas, jnp.zeros(3))
+    np.testing.assert_allclose(rest_joints(model, betas), joints, atol=1e-5)
+    np.testing.assert_allclose(rest_joints(model), fields["J_regressor"] @ fields["v_template"], atol=1e-5)
 
 
 def test_leading_axes_broadcast_and_match_per_item_calls(model):
