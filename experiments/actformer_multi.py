@@ -123,7 +123,7 @@ def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
 
 def run(config: ActFormerMultiConfig, ctx: experiment.RunContext):
     common = dict(workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh,
-                  pictures=_pictures(config, ctx))
+                  writers=ctx.writers, pictures=_pictures(config, ctx))
     rows = run_tables([config.ntu2p], columns=ACTFORMER_COLUMNS, **common)
     combat = run_tables(list(config.combat.values()), columns=COMBAT_COLUMNS, **common)
     for name, cells in combat.items():

@@ -117,7 +117,8 @@ class ActFormerSingleConfig(experiment.ProfileConfig):
 
 def run(config: ActFormerSingleConfig, ctx: experiment.RunContext):
     rows = run_tables([config.tables[name] for name in config.datasets], workdir=ctx.workdir, key=ctx.key,
-                      data_root=ctx.data_root, columns=COLUMNS, mesh=ctx.mesh)
+                      data_root=ctx.data_root, columns=COLUMNS, mesh=ctx.mesh,
+                      writers=ctx.writers)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

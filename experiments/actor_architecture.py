@@ -130,7 +130,8 @@ def architecture_variants(training: ActorTraining) -> dict[str, ActorTraining]:
 
 def run(config: ActorArchitectureConfig, ctx: experiment.RunContext):
     tables = [DatasetTable(t.table, architecture_variants(t.training)) for t in config.tables.values()]
-    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh,
+                      writers=ctx.writers)
     return interleave_reported(rows, REPORTED, list(REPORTED))
 
 

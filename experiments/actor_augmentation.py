@@ -110,14 +110,16 @@ def run(config: ActorAugmentationConfig, ctx: experiment.RunContext):
         if len(part) < max(training.batch_size, spec.batch_size):
             raise ValueError(f"fractions: {column} of {train.name} keeps {len(part)} clips, fewer than a batch "
                              f"(training.batch_size {training.batch_size}, recognizer.batch_size {spec.batch_size})")
-        actor = fit_generator(training, part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"), mesh=ctx.mesh)
+        actor = fit_generator(training, part, ctx.key("train"), ctx.workdir / slug(f"actor {column}"), mesh=ctx.mesh,
+                              writers=ctx.writers)
         labels = np.resize(part.actions, len(train))
         generated = generate_motions(actor.params, training.model, ctx.key("generate"), labels,
                                      np.full(len(labels), training.window), train.skeleton,
                                      class_names=train.class_names, fps=train.fps, split="train")
         ctx.export(generated, slug(f"generated {column}"))
         for row, data in ((REAL, part), (AUGMENTED, real_plus_generated(part, generated))):
-            recognizer = train_recognizer(spec, ctx.workdir / "recognizers" / slug(f"{row} {column}"), data=data)
+            recognizer = train_recognizer(spec, ctx.workdir / "recognizers" / slug(f"{row} {column}"), data=data,
+                                          writers=ctx.writers)
             rows[row][column] = 100 * evaluate_recognizer(recognizer, test, ctx.key("test"), window=spec.window,
                                                           count=spec.test_count)["accuracy"]
     save_curves(ctx.workdir / "augmentation.png", [100 * f for f in config.fractions],

@@ -106,11 +106,13 @@ def run(config: ActorDurationsConfig, ctx: experiment.RunContext):
     for duration in config.durations:  # every duration's real windows, before anything trains
         check_real_sets(real, dataclasses.replace(config.table.protocol, duration=duration))
     recognizer = table_evaluator(config.table, real, ctx.data_root)
-    fixed_generator = fit_generator(fixed, train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh)
+    fixed_generator = fit_generator(fixed, train, ctx.key("train"), ctx.workdir / slug(FIXED), mesh=ctx.mesh,
+                                    writers=ctx.writers)
     # the fine-tune starts from the fixed run's last checkpoint (its parameters, AdamW moments and step), with
     # the same key, so the data order goes on; an interrupted fine-tune resumes from its own checkpoints
     variable_generator = fit_generator(variable, train, ctx.key("train"), ctx.workdir / slug(VARIABLE),
-                                       init_from=ctx.workdir / slug(FIXED), mesh=ctx.mesh)
+                                       init_from=ctx.workdir / slug(FIXED), mesh=ctx.mesh,
+                                       writers=ctx.writers)
     samplers = {FIXED: fixed_generator.sampler(), VARIABLE: variable_generator.sampler()}
     rows: dict[str, dict[str, np.ndarray]] = {}
     for duration in config.durations:

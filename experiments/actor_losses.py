@@ -174,7 +174,8 @@ def run(config: ActorLossesConfig, ctx: experiment.RunContext):
     tables = [DatasetTable(t.table, {name: WithBody(training, body)
                                      for name, training in loss_variants(t.training, body is not None).items()})
               for t in config.tables.values()]
-    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh)
+    rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, mesh=ctx.mesh,
+                      writers=ctx.writers)
     table = {}
     for label, reported in REPORTED.items():
         name = row_name(label, body is not None)

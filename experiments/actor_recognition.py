@@ -124,7 +124,8 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
     real = real_sets(config.data, ctx.data_root)
     train, test, training = real["train"], real["test"], config.training
     skeleton, model = train.skeleton, training.model
-    params = fit_generator(training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh).params
+    params = fit_generator(training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh,
+                           writers=ctx.writers).params
 
     def pack(motions: dict, name: str, split: str) -> MotionDataset:
         return to_dataset(motions, skeleton, train.class_names, train.fps, name=name, split=split)
@@ -151,7 +152,8 @@ def run(config: ActorRecognitionConfig, ctx: experiment.RunContext):
     test_sets = {name: pack(motions, name, "test") for name, motions in test_motions.items()}
     rows = {}
     for name, data in training_sets.items():
-        recognizer = train_recognizer(config.recognizer, ctx.workdir / "recognizers" / slug(name), data=data)
+        recognizer = train_recognizer(config.recognizer, ctx.workdir / "recognizers" / slug(name), data=data,
+                                      writers=ctx.writers)
         rows[name] = {f"{test_name} test": 100 * evaluate_recognizer(recognizer, test_set, ctx.key("test"),
                                                                      window=config.recognizer.window)["accuracy"]
                       for test_name, test_set in test_sets.items()}

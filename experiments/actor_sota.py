@@ -90,7 +90,7 @@ class ActorSotaConfig(experiment.ProfileConfig):
 
 def run(config: ActorSotaConfig, ctx: experiment.RunContext):
     rows = run_tables(list(config.tables.values()), workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root,
-                      mesh=ctx.mesh)
+                      mesh=ctx.mesh, writers=ctx.writers)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

@@ -70,7 +70,8 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
     real = real_sets(config.table.data, ctx.data_root)
     train = real["train"]
     recognizer = table_evaluator(config.table, real, ctx.data_root)
-    generator = fit_generator(config.training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh)
+    generator = fit_generator(config.training, train, ctx.key("train"), ctx.workdir / "actor", mesh=ctx.mesh,
+                              writers=ctx.writers)
     samplers = {"ACTOR": generator.sampler()}
     rows = paper_columns(score_rows(ctx.key("eval"), samplers, real, recognizer, config.table.protocol,
                                     mesh=ctx.mesh))

@@ -80,7 +80,7 @@ class MarionetAblationConfig(experiment.ProfileConfig):
 def run(config: MarionetAblationConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                             eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                            lenders=ctx.runs(*EXPERIMENTS))
+                            writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     return interleave_reported({name: {c: cells[c] for c in COLUMNS if c in cells} for name, cells in rows.items()},
                                REPORTED, ROWS)
 

@@ -80,7 +80,7 @@ class MarionetMultiConfig(experiment.ProfileConfig):
 def run(config: MarionetMultiConfig, ctx: experiment.RunContext):
     rows, curves = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                                      eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                                     lenders=ctx.runs(*EXPERIMENTS))
+                                     writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     save_index_curves(ctx.workdir, curves, "figure8")
     return interleave_reported(rows, REPORTED, ROWS)
 

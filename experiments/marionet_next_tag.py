@@ -54,10 +54,10 @@ def run(config: MarionetNextTagConfig, ctx: experiment.RunContext):
     recipes = {name: row.recipe for name, row in config.rows.items()}
     single = run_action_table(recipes, config.table.single, workdir=ctx.workdir, train_key=ctx.key("train"),
                               eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                              lenders=ctx.runs(*EXPERIMENTS))
+                              writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     multi, _ = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                                  eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                                 lenders=ctx.runs(*EXPERIMENTS))
+                                 writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     rows = {name: {"Single Acc": single[name]["Acc"], "Multi Acc (O)": multi[name]["Acc (O)"],
                    "Multi Acc (S)": multi[name]["Acc (S)"]} for name in config.rows}
     return interleave_reported(rows, REPORTED, ROWS)

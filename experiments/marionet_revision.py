@@ -74,7 +74,7 @@ class MarionetRevisionConfig(experiment.ProfileConfig):
 def run(config: MarionetRevisionConfig, ctx: experiment.RunContext):
     rows, curves = run_program_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                                      eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                                     lenders=ctx.runs(*EXPERIMENTS))
+                                     writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     save_index_curves(ctx.workdir, curves, "figure10")
     rows = {name: {column.removesuffix(" (O)"): cell for column, cell in cells.items()} for name, cells in rows.items()}
     table = interleave_reported(rows, REPORTED, tuple(VARIANTS))

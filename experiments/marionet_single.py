@@ -84,7 +84,7 @@ class MarionetSingleConfig(experiment.ProfileConfig):
 def run(config: MarionetSingleConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                             eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
-                            lenders=ctx.runs(*EXPERIMENTS))
+                            writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
     marionette_pictures(load_generator(ctx.workdir, row="marionet"), ctx.key("pictures"), ctx.workdir)
     return interleave_reported(rows, REPORTED, ROWS)
 

@@ -128,7 +128,8 @@ class OdmoBenchmarkConfig(experiment.ProfileConfig):
 
 def run(config: OdmoBenchmarkConfig, ctx: experiment.RunContext):
     rows = run_tables([config.tables[name] for name in config.datasets], workdir=ctx.workdir, key=ctx.key,
-                      data_root=ctx.data_root, columns=ODMO_COLUMNS, mesh=ctx.mesh)
+                      data_root=ctx.data_root, columns=ODMO_COLUMNS, mesh=ctx.mesh,
+                      writers=ctx.writers)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

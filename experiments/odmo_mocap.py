@@ -73,7 +73,8 @@ class OdmoMocapConfig(experiment.ProfileConfig):
 def run(config: OdmoMocapConfig, ctx: experiment.RunContext):
     rows = {**benchmark_variants(config.odmo), "A2M-xyz": config.a2m, "ACTOR": config.actor}
     measured = run_table(rows, config.mocap, workdir=ctx.workdir, train_key=ctx.key("train MoCap"),
-                         eval_key=ctx.key("eval MoCap"), data_root=ctx.data_root, columns=ODMO_COLUMNS, mesh=ctx.mesh)
+                         eval_key=ctx.key("eval MoCap"), data_root=ctx.data_root, columns=ODMO_COLUMNS, mesh=ctx.mesh,
+                         writers=ctx.writers)
     prefixed = {name: {f"MoCap {column}": cell for column, cell in cells.items()} for name, cells in measured.items()}
     return interleave_reported(prefixed, REPORTED, ROWS)
 

@@ -138,8 +138,9 @@ def run_table(table: ModesTable, ctx: experiment.RunContext) -> dict[str, dict]:
     data = real_sets(table.data, ctx.data_root)["train"]
     workdir = ctx.workdir / slug(table.label)
     key = ctx.key(f"train {table.label}")
-    odmo = fit_generator(table.odmo, data, key, workdir / "odmo", mesh=ctx.mesh)
-    actor_params = fit_generator(table.actor, data, key, workdir / "actor", mesh=ctx.mesh).params
+    odmo = fit_generator(table.odmo, data, key, workdir / "odmo", mesh=ctx.mesh, writers=ctx.writers)
+    actor_params = fit_generator(table.actor, data, key, workdir / "actor", mesh=ctx.mesh,
+                                 writers=ctx.writers).params
     spec = BatchSpec(batch_size=1, window=odmo.model.num_frames, canonical=table.odmo.training.canonical)
     cells = {row: {"mode-homogeneity": [], "ARI": []} for row in ROWS}
     for r in range(table.repetitions):

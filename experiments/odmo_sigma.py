@@ -105,7 +105,7 @@ def run(config: OdmoSigmaConfig, ctx: experiment.RunContext):
     tables = [DatasetTable(config.tables[name].table, sweep(config.tables[name].odmo, config.sigmas, config.prior))
               for name in config.datasets]
     rows = run_tables(tables, workdir=ctx.workdir, key=ctx.key, data_root=ctx.data_root, columns=COLUMNS,
-                      mesh=ctx.mesh)
+                      mesh=ctx.mesh, writers=ctx.writers)
     return interleave_reported(rows, REPORTED, ROWS)
 
 

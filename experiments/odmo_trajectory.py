@@ -135,7 +135,8 @@ def run_table(table: TrajectoryTable, ctx: experiment.RunContext) -> dict[str, d
     rows = {}
     key = ctx.key(f"train {table.label}")
     for name, recipe in ablations(table.odmo).items():
-        odmo = fit_generator(recipe, data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh)
+        odmo = fit_generator(recipe, data, key, ctx.workdir / slug(table.label) / slug(name), mesh=ctx.mesh,
+                             writers=ctx.writers)
         cells = {"Acc": [], "dist_e": [], "end error (cm)": [], "hit rate (%)": [], "path end error (cm)": [],
                  "end response": []}
         for r in range(table.repetitions):

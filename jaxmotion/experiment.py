@@ -41,7 +41,7 @@ from jax.sharding import Mesh
 from jaxmotion import config as cfglib
 from jaxmotion import provenance
 from jaxmotion.data.export import FORMATS as EXPORT_FORMATS
-from jaxmotion.data.export import export_motions
+from jaxmotion.data.export import AmassOptions, amass_arguments, amass_options, export_motions
 from jaxmotion.data.motion import MotionDataset, on_the_floor
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.recognizers import recording_evaluators
@@ -50,6 +50,7 @@ from jaxmotion.evaluation.table import format_table
 from jaxmotion.recipes.tables import run_table
 from jaxmotion.files import LOCK_NAME, InUseError, folder_lock, read_json, write_atomic, write_json
 from jaxmotion.distributed import data_mesh, initialize_distributed, is_primary
+from jaxmotion.train.writers import WRITERS, WriterFactory, named_writers
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
 
@@ -68,7 +69,9 @@ class RunContext:
     workdir: Path
     data_root: str | None = None
     export_formats: tuple[str, ...] = ()  # --export: formats of jaxmotion.data.export for generated motions
+    amass: AmassOptions = AmassOptions()  # --npz-layout, --betas, --gender, --body-model: what npz files say
     devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
+    log_writers: tuple[str, ...] = ()  # --log: training-log writers (jaxmotion.train.writers); not in the record
 
     def __post_init__(self):
         cfglib.check_seed(self.seed, "seed")  # jax.random.key(2**32) is key(0): two seeds, one run
@@ -78,6 +81,13 @@ class RunContext:
         """The data-parallel mesh training and evaluation run on, or None on one device (the plain path)."""
         count = jax.device_count() if self.devices is None else self.devices
         return None if count == 1 else data_mesh(count)
+
+    @functools.cached_property
+    def writers(self) -> tuple[WriterFactory, ...]:
+        """The ``--log`` writers every training of the run passes to the loop (``writers=ctx.writers``), next to
+        ``mesh``: each opens in its training's folder. They show the training logs elsewhere and change no
+        result, so the run record (:meth:`record`) leaves them out and a folder resumes with or without them."""
+        return named_writers(self.log_writers)
 
     def runs(self, *experiments: str) -> tuple[Path, ...]:
         """The run folders of other ``experiments`` with this run's profile and seed under the same ``--out``
@@ -97,7 +107,8 @@ class RunContext:
         nothing), placed on the floor (:func:`~jaxmotion.data.motion.on_the_floor`); return them as given, so a
         call can wrap the expression that makes them."""
         if self.export_formats:
-            paths = export_motions(self.workdir / "export" / name, on_the_floor(motions), formats=self.export_formats)
+            paths = export_motions(self.workdir / "export" / name, on_the_floor(motions), formats=self.export_formats,
+                                   amass=self.amass)
             print(f"[{self.experiment}] exported {len(motions)} motions as {', '.join(self.export_formats)} "
                   f"({len(paths)} files) to {self.workdir / 'export' / name}", file=sys.stderr)
         return motions
@@ -187,7 +198,7 @@ def run_sweep(config: Sweep | Variants, ctx: RunContext) -> Rows:
     from ``"eval"``, in the config's ``COLUMNS`` (ACTOR's by default)."""
     columns = getattr(config, "COLUMNS", None)
     return run_table(config.rows(), config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
-                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
+                     eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh, writers=ctx.writers,
                      **({} if columns is None else {"columns": columns}))
 
 
@@ -201,10 +212,11 @@ RunFn = Callable[[Any, RunContext], Rows]
 
 def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
              data_root: str | None = None, claims: Sequence[Claim] = (), export_formats: Sequence[str] = (),
-             devices: int | None = None) -> dict[str, Any]:
+             amass: AmassOptions = AmassOptions(), devices: int | None = None,
+             log_writers: Sequence[str] = ()) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, seed_folder(out, name, profile, seed), data_root,
-                     tuple(export_formats), devices)
+                     tuple(export_formats), amass, devices, tuple(log_writers))
     with (folder_lock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
         return _run_locked(ctx, config, run_fn, claims)
 
@@ -313,12 +325,17 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         text = cfglib.to_json(config)  # a config that cannot be recorded never trains
         seeds = _seeds(args.seed, args.seeds)
         formats = _parse_formats(args.export)
+        amass = amass_options(args)
+        if amass != AmassOptions() and "npz" not in formats:
+            raise cfglib.ConfigError("--npz-layout, --betas, --gender, --body-model: they say what npz files hold; "
+                                     "give them with --export npz")
         if formats and not exports:
             raise cfglib.ConfigError(f"--export: {name} keeps no generated motions to write; export a trained row's "
                                      "motions from its folder (jaxmotion.load_generator, then "
                                      "jaxmotion.data.export.export_motions)")
         if args.devices is not None and args.devices < 1:
             raise cfglib.ConfigError(f"--devices: expected 1 or more devices, got {args.devices}")
+        log_writers = _parse_writers(args.log)
     except ValueError as err:  # ConfigError, and a profile constructor's own checks
         raise SystemExit(f"{name}: {err}") from None
     if args.print_config:
@@ -338,7 +355,8 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
-                                      export_formats=formats, devices=args.devices)
+                                      export_formats=formats, amass=amass, devices=args.devices,
+                                      log_writers=log_writers)
         except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
         except CHECK_ERRORS as err:
@@ -390,10 +408,14 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
                    help=f"override config fields, e.g. --set {_set_examples(config_cls)}".replace("%", "%%"))
     p.add_argument("--devices", type=int, default=None, metavar="N",
                    help="data-parallel over N devices (default: all of them; 1: a single device)")
+    p.add_argument("--log", default="", metavar="WRITERS",
+                   help=f"also show the training logs in any of {','.join(WRITERS)} (comma-separated; tensorboard: "
+                        "event files in each training folder's tensorboard/); metrics.jsonl stays the record")
     p.add_argument("--export", default="", metavar="FORMATS",
                    help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
                         "under <seed folder>/export/")
     p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
+    amass_arguments(p)
     p.add_argument("--traceback", action="store_true",
                    help="on an error a check raised (bad data, a folder that does not fit), show the whole "
                         "traceback instead of the message alone")
@@ -434,6 +456,17 @@ def _seeds(seed: int | None, seeds: str | None) -> list[int]:
 
 def _seed_list(seeds: Sequence[int]) -> str:
     return ",".join(map(str, seeds))
+
+
+def _parse_writers(text: str) -> tuple[str, ...]:
+    """``--log``'s writer names, each made once here: an unknown name or a missing extra stops the command
+    before any training."""
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    try:
+        named_writers(names)
+    except (ValueError, ImportError) as err:
+        raise cfglib.ConfigError(f"--log: {err}") from None
+    return names
 
 
 def _cell_json(value: float | Sequence[float]) -> float | dict[str, Any]:

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from jaxmotion import experiment, provenance
+from jaxmotion.data import export
 from jaxmotion.train import Checkpointer, LoopConfig
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -285,7 +286,11 @@ def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
                                            # the toy generates nothing: --export would write nothing
                                            (["--export", "npy", "--print-config"], "toy: --export: toy keeps no "
                                                                                   "generated motions to write"),
-                                           (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct")])
+                                           (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct"),
+                                           (["--export", "bvh", "--betas", "1", "--print-config"],
+                                            "--body-model: they say what npz files hold; give them with --export npz"),
+                                           (["--export", "npz", "--betas", "a", "--print-config"],
+                                            "--betas: expected comma-separated numbers")])
 def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):
     with pytest.raises(SystemExit, match=message):
         _run_toy(tmp_path, *args)
@@ -305,6 +310,11 @@ def test_the_run_context_exports_generated_motions_in_the_requested_formats(tmp_
     assert ctx.export(data) is data
     assert sorted(p.name for p in (tmp_path / "export" / "generated").iterdir()) == [
         "m0.bvh", "m0.npy", "m1.bvh", "m1.npy"]
+    female = experiment.RunContext("toy", "smoke", 0, tmp_path / "npz", export_formats=("npz",),
+                                   amass=export.AmassOptions(layout="smpl", betas=(1.0,), gender="female"))
+    female.export(data)
+    with np.load(tmp_path / "npz" / "export" / "generated" / "m0.npz") as written:
+        assert written["poses"].shape == (5, 72) and str(written["gender"]) == "female" and written["betas"][0] == 1
     silent = experiment.RunContext("toy", "smoke", 0, tmp_path / "none")
     silent.export(data)
     assert not (tmp_path / "none").exists()

@@ -51,6 +51,7 @@ from jaxmotion.train.actor import ActorTraining
 from jaxmotion.train.loop import LoopConfig
 from jaxmotion.train.mann import MannTraining, train_mann
 from jaxmotion.train.marionet import MarionetTraining, train_marionet
+from jaxmotion.train.writers import WriterFactory
 from jaxmotion.viz import save_curves
 
 #: A context model's trainer config -> its training function.
@@ -261,17 +262,18 @@ EXPERIMENTS = ("marionet_single", "marionet_ablation", "marionet_multi", "marion
 
 
 def run_action_table(rows: Mapping[str, Any], table: ActionTable, *, workdir: str | Path, train_key: jax.Array,
-                     eval_key: jax.Array, data_root: str | None = None, mesh=None, lenders: Sequence[str | Path] = ()
+                     eval_key: jax.Array, data_root: str | None = None, mesh=None,
+                     writers: Sequence[WriterFactory] = (), lenders: Sequence[str | Path] = ()
                      ) -> dict[str, dict[str, np.ndarray]]:
     """Train every row on the train split's actions (:func:`~jaxmotion.recipes.tables.fit_rows`, generators written
-    beside their checkpoints; ``lenders``: other tables' run folders whose finished rows it may resume) and score
-    them together on the test split's (Neural Marionette's columns; the Real row last). Rows: context recipes
-    (:class:`ContextRecipe`) and :class:`ContextFreeRecipe`."""
+    beside their checkpoints; ``writers``: their training-log writers; ``lenders``: other tables' run folders whose
+    finished rows it may resume) and score them together on the test split's (Neural Marionette's columns; the Real
+    row last). Rows: context recipes (:class:`ContextRecipe`) and :class:`ContextFreeRecipe`."""
     train = load_dataset(table.dataset, "train", seed=table.seed, data_root=data_root, count=table.count)
     test = load_dataset(table.dataset, "test", seed=table.seed, data_root=data_root, count=table.count)
     actions = action_set(test, max_frames=table.protocol.max_frames, count=table.protocol.count)
     recognizer, _ = trained_recognizer(table.evaluator, data_root=data_root)  # before any row trains
-    generators = fit_rows(rows, train, train_key, workdir, lenders, mesh=mesh)
+    generators = fit_rows(rows, train, train_key, workdir, lenders, mesh=mesh, writers=writers)
     samplers = {name: action_sampler_of(generator) for name, generator in generators.items()}
     scored = evaluate_actions(eval_key, samplers, recognizer, actions, table.protocol)
     return paper_columns({**{name: scored[name] for name in samplers}, "Real": scored["Real"]}, MARIONETTE_COLUMNS,
@@ -329,12 +331,12 @@ def program_table(profile: str, sets: tuple[str, ...] = ("overall", "sufficient"
 
 def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, workdir: str | Path, train_key: jax.Array,
                       eval_key: jax.Array, data_root: str | None = None, mesh=None,
-                      lenders: Sequence[str | Path] = ()
+                      writers: Sequence[WriterFactory] = (), lenders: Sequence[str | Path] = ()
                       ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, dict[str, dict[str, np.ndarray]]]]:
     """Train every row's recipe (:func:`~jaxmotion.recipes.tables.fit_rows`: rows that differ by their chain options
-    train once; ``lenders`` as :func:`run_action_table`'s) and score the chains on each test set. Returns the table
-    (columns ``"<metric> (O)"``, ``"<metric> (S)"``: Acc, FID, Δpose, Δvel, then Motion QR, PJ, AUJ, Trans. FID) and
-    the curves per set and row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
+    train once; ``writers`` and ``lenders`` as :func:`run_action_table`'s) and score the chains on each test set.
+    Returns the table (columns ``"<metric> (O)"``, ``"<metric> (S)"``: Acc, FID, Δpose, Δvel, then Motion QR, PJ,
+    AUJ, Trans. FID) and the curves per set and row (:func:`~jaxmotion.evaluation.multi_action.evaluate_programs`)."""
     single = table.single
     train = load_dataset(single.dataset, "train", seed=single.seed, data_root=data_root, count=single.count)
     test = load_dataset(single.dataset, "test", seed=single.seed, data_root=data_root, count=single.count)
@@ -345,7 +347,7 @@ def run_program_table(rows: Mapping[str, ChainRow], table: ProgramTable, *, work
     if revising:
         reviser = recognizer if table.reviser is None else trained_recognizer(table.reviser, data_root=data_root)[0]
     generators = fit_rows({name: row.recipe for name, row in rows.items()}, train, train_key, workdir, lenders,
-                          mesh=mesh)
+                          mesh=mesh, writers=writers)
     chains = {name: functools.partial(chain_actions, generators[name], options=row.options, reviser=reviser,
                                       local_paths=True) for name, row in rows.items()}
     candidates = candidate_actions(recognizer, actions, table.protocol.confidence)

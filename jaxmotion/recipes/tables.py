@@ -60,6 +60,7 @@ from jaxmotion.train.a2m import A2MTraining
 from jaxmotion.train.actformer import ActFormerTraining
 from jaxmotion.train.actor import ActorTraining
 from jaxmotion.train.loop import CHECKPOINT_FOLDER, TRAINING_LOG
+from jaxmotion.train.writers import TENSORBOARD_FOLDER, WriterFactory
 
 GENERATOR_FOLDER = "generator"
 
@@ -145,8 +146,9 @@ def fit_rows(rows: Mapping[str, Row | Recipe], data: MotionDataset, key: jax.Arr
 
 
 def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path | None:
-    """Copy into ``folder`` (which has no checkpoints) the checkpoints and training log of a finished row of
-    ``lenders`` whose fit record is ``record``; return that row's folder, or None."""
+    """Copy into ``folder`` (which has no checkpoints) the checkpoints and training log (with its TensorBoard
+    event files, if any) of a finished row of ``lenders`` whose fit record is ``record``; return that row's folder,
+    or None."""
     if (folder / CHECKPOINT_FOLDER).exists() or jax.process_count() > 1:
         return None
     for lender in lenders:
@@ -157,6 +159,8 @@ def _borrow(record: dict, folder: Path, lenders: Sequence[str | Path]) -> Path |
                 shutil.copytree(row / CHECKPOINT_FOLDER, folder / CHECKPOINT_FOLDER)
                 if (row / TRAINING_LOG).is_file():  # the training the checkpoints hold, logged
                     shutil.copy2(row / TRAINING_LOG, folder / TRAINING_LOG)
+                if (row / TENSORBOARD_FOLDER).is_dir():
+                    shutil.copytree(row / TENSORBOARD_FOLDER, folder / TENSORBOARD_FOLDER, dirs_exist_ok=True)
                 return row
     return None
 
@@ -232,16 +236,18 @@ PicturesHook = Callable[[TableDataset, Mapping[str, Sampler], MotionDataset], No
 
 def run_table(rows: Mapping[str, Row | Recipe], table: TableDataset, *, workdir: str | Path, train_key: jax.Array,
               eval_key: jax.Array, data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS,
-              mesh: Mesh | None = None, pictures: PicturesHook | None = None) -> dict[str, dict[str, np.ndarray]]:
+              mesh: Mesh | None = None, writers: Sequence[WriterFactory] = (), pictures: PicturesHook | None = None
+              ) -> dict[str, dict[str, np.ndarray]]:
     """A table on one dataset: load it, train every row (:func:`fit_rows` in ``workdir``), score them
     together (:func:`~jaxmotion.evaluation.tables.score_rows`); rows in the paper's ``columns``, the Real row
-    last. ``mesh``: train and evaluate data-parallel on it (None: one device). ``pictures``: called once the rows
-    are scored, to draw what they generate."""
+    last. ``mesh``: train and evaluate data-parallel on it (None: one device). ``writers``: the rows' training-log
+    writers (:mod:`jaxmotion.train.writers`). ``pictures``: called once the rows are scored, to draw what they
+    generate."""
     real = real_sets(table.data, data_root)
     recognizer = table_evaluator(table, real, data_root)  # before any row trains
     person = (None if table.person_evaluator is None
               else trained_recognizer(table.person_evaluator, data_root=data_root)[0].reading(real["train"].skeleton))
-    generators = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh)
+    generators = fit_rows(rows, real["train"], train_key, workdir, mesh=mesh, writers=writers)
     samplers = {name: generator.sampler() for name, generator in generators.items()}
     scored = paper_columns(score_rows(eval_key, samplers, real, recognizer, table.protocol, mesh=mesh,
                                       person_recognizer=person), columns)
@@ -252,14 +258,16 @@ def run_table(rows: Mapping[str, Row | Recipe], table: TableDataset, *, workdir:
 
 def run_tables(tables: Sequence[DatasetTable], *, workdir: str | Path, key: Callable[[str], jax.Array],
                data_root: str | None = None, columns: Mapping[str, str] = ACTOR_COLUMNS, mesh: Mesh | None = None,
-               pictures: PicturesHook | None = None) -> dict[str, dict[str, Any]]:
+               writers: Sequence[WriterFactory] = (), pictures: PicturesHook | None = None
+               ) -> dict[str, dict[str, Any]]:
     """A table over several datasets, side by side: on each, its rows train in ``<workdir>/<slug(label)>/`` from
-    ``key("train <label>")`` and are scored from ``key("eval <label>")`` (``pictures``: :func:`run_table`'s hook,
-    on each)."""
+    ``key("train <label>")`` and are scored from ``key("eval <label>")`` (``writers``, ``pictures``:
+    :func:`run_table`'s, on each)."""
     labels = [dataset.table.label for dataset in tables]
     if len({slug(label) for label in labels}) != len(labels):
         raise ValueError(f"tables: labels must give distinct folder names, got {labels}")
     return side_by_side({label: run_table(dataset.rows, dataset.table, workdir=Path(workdir) / slug(label),
                                           train_key=key(f"train {label}"), eval_key=key(f"eval {label}"),
-                                          data_root=data_root, columns=columns, mesh=mesh, pictures=pictures)
+                                          data_root=data_root, columns=columns, mesh=mesh, writers=writers,
+                                          pictures=pictures)
                          for label, dataset in zip(labels, tables)})

@@ -36,7 +36,7 @@ def fit(data: MotionDataset, key: jax.Array, *, init_state: Callable[[jax.Array]
     ``key`` splits into ``k_init, k_data, k_train``: the initial state, the batches' order and crops, and
     the per-step keys (``fold_in(k_train, step)``). ``labels``: per-sequence arrays the batches carry too
     (:func:`~jaxmotion.data.pipeline.make_batch_fn`). ``loop_options`` go to :func:`~jaxmotion.train.loop.train`
-    as they are (``mesh``, ``init_from``, ``eval_fn``).
+    as they are (``mesh``, ``init_from``, ``eval_fn``, ``writers``).
     """
     k_init, k_data, k_train = jax.random.split(key, 3)
     return train(init_state(k_init), step_fn, make_batch_fn(data, k_data, batch, labels), key=k_train, config=loop,

@@ -28,6 +28,10 @@ Options:
   every batch is split along its leading axis (which must divide by the device count), and the step
   compiles as one SPMD program; checkpoints restore onto the mesh. ``None`` (default): one device, as
   before. With several processes, only process 0 writes ``metrics.jsonl`` and shows progress.
+* ``writers``: writer factories (:mod:`jaxmotion.train.writers`, e.g. TensorBoard's). Process 0 opens each on
+  ``workdir`` with the step it starts from (once the log is truncated there, and only if steps are left),
+  hands it every record it appends to ``metrics.jsonl``, and closes it however training ends. They need a
+  ``workdir``: without one they are refused.
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ import contextlib
 import dataclasses
 import json
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -47,6 +51,7 @@ from jax.sharding import Mesh
 
 from jaxmotion.files import folder_lock, write_atomic
 from jaxmotion.train.checkpoint import Checkpointer, CheckpointsDamaged
+from jaxmotion.train.writers import Writer, WriterFactory, record_scalars
 from jaxmotion.distributed import is_primary, replicate, replicated, shard_batch
 from jaxmotion.progress import Progress
 
@@ -99,23 +104,30 @@ def train(
     mesh: Mesh | None = None,
     init_from: str | Path | None = None,
     eval_fn: Callable[[Any], Mapping[str, float]] | None = None,
+    writers: Sequence[WriterFactory] = (),
 ) -> Any:
     """Run ``config.steps`` steps from ``state`` (or from the latest checkpoint in ``workdir``, or else
-    from ``init_from``'s); see the module docstring for ``mesh``, ``init_from`` and ``eval_fn``.
+    from ``init_from``'s); see the module docstring for ``mesh``, ``init_from``, ``eval_fn`` and ``writers``.
 
     With ``workdir`` set, checkpoints go to ``workdir/checkpoints`` and averaged metrics to
     ``workdir/metrics.jsonl``; a run that finds a checkpoint resumes from it. Returns the final state.
     """
     if workdir is None:
-        return _train(state, step_fn, batch_fn, key, config, None, progress, mesh, init_from, eval_fn)
+        if writers:
+            raise ValueError("writers: a training log needs a folder; got writers but workdir=None")
+        return _train(state, step_fn, batch_fn, key, config, None, progress, mesh, init_from, eval_fn, ())
     with folder_lock(workdir, what="training folder") if is_primary() else contextlib.nullcontext():
-        return _train(state, step_fn, batch_fn, key, config, Path(workdir), progress, mesh, init_from, eval_fn)
+        return _train(state, step_fn, batch_fn, key, config, Path(workdir), progress, mesh, init_from, eval_fn,
+                      writers)
 
 
-def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_from, eval_fn):
+def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_from, eval_fn, writers):
     ckpt = Checkpointer(workdir / CHECKPOINT_FOLDER, max_to_keep=config.keep_checkpoints) if workdir else None
     primary = is_primary()
     log_path = workdir / TRAINING_LOG if workdir and primary else None
+    cleanup = contextlib.ExitStack()  # the checkpointer and the writers, closed however training ends
+    if ckpt is not None:
+        cleanup.callback(ckpt.close)
     try:
         if mesh is not None:
             state, key = replicate(state, mesh), replicate(key, mesh)
@@ -133,6 +145,8 @@ def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_
             _truncate_log(log_path, start, resumed=resumed)
         if start >= config.steps:
             return state
+        opened: list[Writer] = ([cleanup.enter_context(contextlib.closing(factory(workdir, start)))
+                                 for factory in writers] if log_path is not None else [])
 
         # The key travels as an argument (not a closure constant) so the step compiles once per run.
         def run_step(state, batch, loop_key):
@@ -155,13 +169,13 @@ def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_
             done = step + 1
             if done % config.log_every == 0 or done == config.steps:
                 means = {k: float(v) / count for k, v in totals.items()}
-                _append(log_path, {"step": done, **means})
+                _append(log_path, opened, {"step": done, **means})
                 if bar is not None:
                     bar.update(done, means)
                 totals, count = None, 0
             if eval_fn is not None and config.eval_every and done % config.eval_every == 0:
                 values = {k: float(v) for k, v in eval_fn(state).items()}
-                _append(log_path, {"step": done, "eval": values})
+                _append(log_path, opened, {"step": done, "eval": values})
                 if bar is not None:
                     bar.message(f"eval at step {done}: " + " | ".join(f"{k} {v:.4g}" for k, v in values.items()))
             if ckpt is not None and (
@@ -172,8 +186,7 @@ def _train(state, step_fn, batch_fn, key, config, workdir, progress, mesh, init_
             bar.close()
         return state
     finally:
-        if ckpt is not None:
-            ckpt.close()
+        cleanup.close()
 
 
 def _restore_from(init_from: str | Path, like: Any) -> Any:
@@ -204,10 +217,12 @@ def _report(message: str) -> None:
         print(message, file=sys.stderr)
 
 
-def _append(path: Path | None, record: Mapping[str, Any]) -> None:
+def _append(path: Path | None, writers: Sequence[Writer], record: Mapping[str, Any]) -> None:
     if path is not None:
         with path.open("a") as f:
             f.write(json.dumps(record) + "\n")
+        for writer in writers:
+            writer.write(record["step"], record_scalars(record))
 
 
 def _truncate_log(path: Path, step: int, *, resumed: bool) -> None:
