@@ -33,9 +33,8 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from jaxmotion.data.export import AmassOptions, amass_arguments, amass_options, export_motions
+from jaxmotion.data.export import export_arguments, export_motions, export_options
 from jaxmotion.data.motion import MotionDataset, to_dataset
-from jaxmotion.data.preview import take_animation, take_strip
 from jaxmotion.data.segments import Program, ProgramAction, Segments
 from jaxmotion.evaluation.recognizers import trained_recognizer
 from jaxmotion.files import write_atomic
@@ -43,6 +42,7 @@ from jaxmotion.pipelines.load import load_generator
 from jaxmotion.pipelines.marionette import ContextGenerator
 from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path, chain_actions, joined, program_conditions
 from jaxmotion.recipes.evaluators import evaluator_spec
+from jaxmotion.data.preview import take_animation, take_strip
 
 _ACTION = re.compile(r"^(?P<tags>.+?)\s+(?P<amount>\d+(?:\.\d+)?)(?P<unit>s|f)(?:\s+along\s+(?P<path>.+))?$")
 _POINT = re.compile(r"^(-?\d+(?:\.\d+)?),(-?\d+(?:\.\d+)?)$")
@@ -165,7 +165,7 @@ def main(argv: Sequence[str] | None = None) -> Path:
     parser.add_argument("--no-orientation", action="store_true",
                         help="no start orientation check (on by default: an action whose path starts where its tag "
                              "never headed in training starts turned towards it, as the paper's interface does)")
-    amass_arguments(parser)
+    export_arguments(parser)
     parser.add_argument("--gif", action="store_true",
                         help="also write <name>.gif: the body in 3D above the tag timeline with a moving cursor")
     args = parser.parse_args(argv)
@@ -173,10 +173,7 @@ def main(argv: Sequence[str] | None = None) -> Path:
     try:
         if out.suffix not in FORMATS:
             raise ValueError(f"--out: expected a .bvh, .npz or .npy file, got {out.name!r}")
-        amass = amass_options(args)
-        if amass != AmassOptions() and out.suffix != ".npz":
-            raise ValueError("--npz-layout, --betas, --gender, --body-model: they say what an .npz file holds; "
-                             f"--out is {out.name!r}")
+        export = export_options(args, (FORMATS[out.suffix],))
         generator = load_generator(args.run, row=args.row)
         if not isinstance(generator, ContextGenerator):
             raise ValueError(f"RUN: {args.run} holds a {generator.method} generator, which does not continue a "
@@ -194,7 +191,7 @@ def main(argv: Sequence[str] | None = None) -> Path:
         parser.exit(2, f"{parser.prog}: error: {error}\n")
     batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
     written = export_motions(out.parent, batch, generator.facts.skeleton, generator.fps, formats=(FORMATS[out.suffix],),
-                             names=[out.stem], amass=amass)
+                             names=[out.stem], options=export)
     table = out.with_name(f"{out.stem}.segments.json")
     write_atomic(table, json.dumps({"fps": generator.fps, "frames": len(motion["joints"]),
                                     "segments": motion["segments"]}, indent=1).encode())

@@ -41,7 +41,7 @@ from jax.sharding import Mesh
 from jaxmotion import config as cfglib
 from jaxmotion import provenance
 from jaxmotion.data.export import FORMATS as EXPORT_FORMATS
-from jaxmotion.data.export import AmassOptions, amass_arguments, amass_options, export_motions
+from jaxmotion.data.export import ExportOptions, export_arguments, export_motions, export_options
 from jaxmotion.data.motion import MotionDataset, on_the_floor
 from jaxmotion.evaluation.claims import Claim, check_all, format_claims
 from jaxmotion.evaluation.recognizers import recording_evaluators
@@ -69,7 +69,7 @@ class RunContext:
     workdir: Path
     data_root: str | None = None
     export_formats: tuple[str, ...] = ()  # --export: formats of jaxmotion.data.export for generated motions
-    amass: AmassOptions = AmassOptions()  # --npz-layout, --betas, --gender, --body-model: what npz files say
+    export_options: ExportOptions = ExportOptions()  # --npz-layout, --betas, ..., --rig, --clean-feet: how files say it
     devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
     log_writers: tuple[str, ...] = ()  # --log: training-log writers (jaxmotion.train.writers); not in the record
 
@@ -108,7 +108,7 @@ class RunContext:
         call can wrap the expression that makes them."""
         if self.export_formats:
             paths = export_motions(self.workdir / "export" / name, on_the_floor(motions), formats=self.export_formats,
-                                   amass=self.amass)
+                                   options=self.export_options)
             print(f"[{self.experiment}] exported {len(motions)} motions as {', '.join(self.export_formats)} "
                   f"({len(paths)} files) to {self.workdir / 'export' / name}", file=sys.stderr)
         return motions
@@ -212,11 +212,11 @@ RunFn = Callable[[Any, RunContext], Rows]
 
 def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
              data_root: str | None = None, claims: Sequence[Claim] = (), export_formats: Sequence[str] = (),
-             amass: AmassOptions = AmassOptions(), devices: int | None = None,
+             export_options: ExportOptions = ExportOptions(), devices: int | None = None,
              log_writers: Sequence[str] = ()) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, seed_folder(out, name, profile, seed), data_root,
-                     tuple(export_formats), amass, devices, tuple(log_writers))
+                     tuple(export_formats), export_options, devices, tuple(log_writers))
     with (folder_lock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
         return _run_locked(ctx, config, run_fn, claims)
 
@@ -325,10 +325,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         text = cfglib.to_json(config)  # a config that cannot be recorded never trains
         seeds = _seeds(args.seed, args.seeds)
         formats = _parse_formats(args.export)
-        amass = amass_options(args)
-        if amass != AmassOptions() and "npz" not in formats:
-            raise cfglib.ConfigError("--npz-layout, --betas, --gender, --body-model: they say what npz files hold; "
-                                     "give them with --export npz")
+        options = export_options(args, formats)
         if formats and not exports:
             raise cfglib.ConfigError(f"--export: {name} keeps no generated motions to write; export a trained row's "
                                      "motions from its folder (jaxmotion.load_generator, then "
@@ -355,7 +352,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         try:
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
-                                      export_formats=formats, amass=amass, devices=args.devices,
+                                      export_formats=formats, export_options=options, devices=args.devices,
                                       log_writers=log_writers)
         except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
@@ -415,7 +412,7 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
                    help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
                         "under <seed folder>/export/")
     p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
-    amass_arguments(p)
+    export_arguments(p)
     p.add_argument("--traceback", action="store_true",
                    help="on an error a check raised (bad data, a folder that does not fit), show the whole "
                         "traceback instead of the message alone")

@@ -75,8 +75,9 @@ def test_composed_actions_follow_one_another_with_their_segment_table(generator)
 def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, capsys):
     folder = generator.save(tmp_path / "generator")
     out = tmp_path / "out" / "motion.bvh"
-    written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean", "--gif"])
-    assert written == out and load_bvh(out).rotations.shape[0] == 35
+    written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean", "--gif",
+                    "--rig", "mixamo", "--clean-feet"])
+    assert written == out and load_bvh(out).rotations.shape[0] == 35 and load_bvh(out).names[0] == "mixamorig:Hips"
     table = json.loads((tmp_path / "out" / "motion.segments.json").read_text())
     assert table["frames"] == 35 and [s["end"] for s in table["segments"]] == [15, 35]
     picture = plt.imread(tmp_path / "out" / "motion.png")  # poses above the tag timeline
@@ -91,7 +92,8 @@ def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, cap
     for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],
                                                                   "--out: expected a .bvh, .npz or .npy file"),
                          (["walk 1s", "--smoothing", "-1"], "ChainOptions.smoothing: expected >= 0"),
-                         (["walk 1s", "--gender", "female"], "--gender, --body-model: they say what an .npz"),
+                         (["walk 1s", "--gender", "female"], "they say what npz files hold; the formats written are"),
+                         (["walk 1s", "--rig", "mixamo", "--out", str(tmp_path / "m.npz")], "--rig: it names a BVH"),
                          (["walk 1s", "--betas", "1,x", "--out", str(tmp_path / "m.npz")],
                           "--betas: expected comma-separated numbers, got '1,x'")):
         argv = [str(folder), *bad] + ([] if "--out" in bad else ["--out", str(out)])

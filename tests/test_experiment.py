@@ -288,7 +288,7 @@ def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
                                                                                   "generated motions to write"),
                                            (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct"),
                                            (["--export", "bvh", "--betas", "1", "--print-config"],
-                                            "--body-model: they say what npz files hold; give them with --export npz"),
+                                            "--body-model: they say what npz files hold; the formats written are bvh"),
                                            (["--export", "npz", "--betas", "a", "--print-config"],
                                             "--betas: expected comma-separated numbers")])
 def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):
@@ -311,7 +311,8 @@ def test_the_run_context_exports_generated_motions_in_the_requested_formats(tmp_
     assert sorted(p.name for p in (tmp_path / "export" / "generated").iterdir()) == [
         "m0.bvh", "m0.npy", "m1.bvh", "m1.npy"]
     female = experiment.RunContext("toy", "smoke", 0, tmp_path / "npz", export_formats=("npz",),
-                                   amass=export.AmassOptions(layout="smpl", betas=(1.0,), gender="female"))
+                                   export_options=export.ExportOptions(export.AmassOptions(layout="smpl", betas=(1.0,),
+                                                                                         gender="female")))
     female.export(data)
     with np.load(tmp_path / "npz" / "export" / "generated" / "m0.npz") as written:
         assert written["poses"].shape == (5, 72) and str(written["gender"]) == "female" and written["betas"][0] == 1

@@ -13,7 +13,8 @@ import pytest
 
 from jaxmotion.data import export, pack
 from jaxmotion.data.motion import Motion
-from jaxmotion.data.synthetic import subject_offsets
+from jaxmotion.data.retarget import foot_contacts, foot_skating, mixamo_names
+from jaxmotion.data.synthetic import generate, subject_offsets
 from jaxmotion.geometry import (
     CMU_MOCAP20,
     EULER_ORDERS,
@@ -88,12 +89,14 @@ def elementary_rotation(axis, degrees):
             "Z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])}[axis]
 
 
-def rodrigues(rotvec):
-    """Rotation vector [3] -> [3, 3] in numpy (non-zero angles only)."""
-    angle = np.linalg.norm(rotvec)
-    x, y, z = rotvec / angle
-    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
-    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+def rodrigues(axis_angle):
+    """``[..., 3]`` axis-angle -> ``[..., 3, 3]``, float64, written out (the reader borrows nothing)."""
+    angle = np.linalg.norm(axis_angle, axis=-1, keepdims=True)[..., None]
+    k = axis_angle / np.maximum(np.linalg.norm(axis_angle, axis=-1, keepdims=True), 1e-12)
+    cross = np.zeros(k.shape[:-1] + (3, 3))
+    cross[..., 0, 1], cross[..., 0, 2], cross[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
+    cross = cross - np.swapaxes(cross, -1, -2)
+    return np.eye(3) + np.sin(angle) * cross + (1 - np.cos(angle)) * cross @ cross
 
 
 def assert_same_rotations(actual, expected, atol=1e-5):
@@ -342,16 +345,6 @@ def smplh_file(path, rest, *, betas_shift):
     return path
 
 
-def rodrigues(axis_angle):
-    """``[..., 3]`` axis-angle -> ``[..., 3, 3]``, float64, written out (the reader borrows nothing)."""
-    angle = np.linalg.norm(axis_angle, axis=-1, keepdims=True)[..., None]
-    k = axis_angle / np.maximum(np.linalg.norm(axis_angle, axis=-1, keepdims=True), 1e-12)
-    cross = np.zeros(k.shape[:-1] + (3, 3))
-    cross[..., 0, 1], cross[..., 0, 2], cross[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
-    cross = cross - np.swapaxes(cross, -1, -2)
-    return np.eye(3) + np.sin(angle) * cross + (1 - np.cos(angle)) * cross @ cross
-
-
 def pose_amass_file(npz_path, model_path):
     """An independent reading: the joints ``[T, J, 3]`` (the file's world) a body model file puts where an AMASS
     file says, as SMPL does: rest joints = J_regressor (v_template + shapedirs betas); each joint's world
@@ -541,6 +534,41 @@ def test_export_motions_rejects_npz_off_the_smpl_tree_and_unknown_formats(tmp_pa
         export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("fbx",))
     with pytest.raises(ValueError, match=re.escape("names: expected plain file names")):
         export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("npy",), names=["../x"])
+
+
+def test_export_with_mixamo_names_and_clean_feet_writes_one_cleaned_motion_in_every_format(tmp_path):
+    data = generate("synth-humanact12", "train", seed=0, count=4, progress=False)
+    options = export.ExportOptions(rig="mixamo", clean_feet=True)
+    export.export_motions(tmp_path, data, formats=("bvh", "npy"), options=options)
+    ankles = [SMPL24.index("left_ankle"), SMPL24.index("right_ankle")]
+    for motion, stem in zip(data, data.names):
+        bvh = export.load_bvh(tmp_path / f"{export._UNSAFE.sub('_', stem)}.bvh")
+        assert set(bvh.names) == set(mixamo_names()) and "mixamorig:LeftFoot" in bvh.names
+        parents, offsets, rotations = in_joint_order(bvh, mixamo_names())
+        assert parents == SMPL24.parents
+        joints = np.load(tmp_path / f"{export._UNSAFE.sub('_', stem)}.npy")  # the cleaned motion's joints
+        np.testing.assert_allclose(export._joints(rotations, bvh.translation, offsets, parents), joints, atol=FK_ATOL)
+        np.testing.assert_allclose(joints[:, 0], motion.joints[:, 0], atol=1e-6)  # the root does not move
+        contacts = foot_contacts(motion.joints[:, ankles], data.fps)
+        before, after = (foot_skating(j[:, ankles], contacts, data.fps) for j in (motion.joints, joints))
+        assert after < 0.1 * before
+
+
+def test_export_options_refuse_what_the_skeleton_or_formats_cannot_carry(tmp_path):
+    motions = {"joints": np.zeros((1, 4, 20, 3)), "rotations": np.zeros((1, 4, 20, 3)),
+               "translation": np.zeros((1, 4, 3))}
+    with pytest.raises(ValueError, match=re.escape("clean_feet: the legs it holds are SMPL-24's")):
+        export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("npy",),
+                              options=export.ExportOptions(clean_feet=True))
+    with pytest.raises(ValueError, match=re.escape("rig: Mixamo's names are for the SMPL-24 tree")):
+        export.export_motions(tmp_path, motions, CMU_MOCAP20, FPS, formats=("bvh",),
+                              options=export.ExportOptions(rig="mixamo"))
+    with pytest.raises(ValueError, match=re.escape("clean_feet: needs rotations")):
+        export.export_motions(tmp_path, {"joints": np.zeros((1, 4, 24, 3))}, SMPL24, FPS, formats=("npy",),
+                              options=export.ExportOptions(clean_feet=True))
+    with pytest.raises(ValueError, match=re.escape("rig: expected one of ['smpl', 'mixamo'], got 'maya'")):
+        export.ExportOptions(rig="maya")
+    assert not list(tmp_path.iterdir())
 
 
 @pytest.mark.parametrize("fmt", ["npy", "bvh"])

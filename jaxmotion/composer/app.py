@@ -38,7 +38,7 @@ import jax
 import numpy as np
 
 from jaxmotion.compose import canonical_tag, compose, unseen_pairs
-from jaxmotion.data.export import AmassOptions, export_motions
+from jaxmotion.data.export import AmassOptions, ExportOptions, export_motions
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.segments import Program, ProgramAction
 from jaxmotion.geometry.body import BodyModel, rest_joints, skinning_transforms
@@ -185,7 +185,7 @@ class Composer:
                              f"with parents {list(body.parents)}")
         self.generator, self.reviser, self.keep, self._body = generator, reviser, keep, body
         # the npz download's trans follows the body model's rest pelvis (AMASS's convention) when there is one
-        self._amass = AmassOptions() if body is None else AmassOptions.for_body(body)
+        self._export = ExportOptions() if body is None else ExportOptions(AmassOptions.for_body(body))
         # Shadow Start embeds poses with MARIONET's encoder; Action Revision needs its classifier
         self.shadow_modes = tuple(m for m in SHADOW_MODES if (m != "revision" or reviser is not None)
                                   and (m == "never" or generator.method == "marionet"))
@@ -295,5 +295,5 @@ class Composer:
         batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
         with tempfile.TemporaryDirectory() as folder:
             written = export_motions(folder, batch, self.generator.facts.skeleton, self.generator.fps,
-                                     formats=(fmt,), names=["motion"], amass=self._amass)
+                                     formats=(fmt,), names=["motion"], options=self._export)
             return Path(written[0]).read_bytes(), content_type

@@ -68,7 +68,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from jaxmotion.data.arrays import bucket, check_finite, checked, padded
 from jaxmotion.data.motion import Motion, MotionDataset
+from jaxmotion.data.retarget import clean_feet, mixamo_names
 from jaxmotion.geometry.body import BodyModel, load_body_model, rest_joints
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import (
@@ -82,8 +84,8 @@ from jaxmotion.geometry.skeletons import SMPL24, Skeleton, topological_order
 from jaxmotion.progress import phase
 
 __all__ = [
-    "FORMATS", "AmassOptions", "BvhMotion", "amass_arguments", "amass_options", "export_motions", "load_amass_npz",
-    "load_bvh", "rest_offsets", "save_amass_npz", "save_bvh", "save_joints_npy",
+    "FORMATS", "RIGS", "AmassOptions", "BvhMotion", "ExportOptions", "export_arguments", "export_motions",
+    "export_options", "load_amass_npz", "load_bvh", "rest_offsets", "save_amass_npz", "save_bvh", "save_joints_npy",
 ]
 
 #: File formats of :func:`export_motions`, by file extension.
@@ -134,53 +136,22 @@ def _joints(rotations, translation, offsets: np.ndarray, parents: tuple[int, ...
                       [_rows(axis_angle_to_matrix, rotations), translation])
 
 
-def _padded(array, size: int) -> np.ndarray:
-    """``array`` as float32 with axis 0 padded to ``size`` by copies of its last entry."""
-    array = np.asarray(array, np.float32)
-    return np.pad(array, [(0, size - len(array))] + [(0, 0)] * (array.ndim - 1), mode="edge")
-
-
-def _bucket(count: int, smallest: int) -> int:
-    """The padded size of ``count`` entries: the next power of two, at least ``smallest``."""
-    return max(smallest, 1 << max(count - 1, 0).bit_length())
-
-
 def _rows(kernel, values, *shared) -> np.ndarray:
     """A row-wise ``kernel`` on ``values [..., 3]``, run on the rows padded to a power of two >= 512."""
     values = np.asarray(values)
     rows = values.reshape(-1, 3)
-    out = np.asarray(kernel(_padded(rows, _bucket(len(rows), 512)), *shared))[: len(rows)]
+    out = np.asarray(kernel(padded(np.asarray(rows, np.float32), bucket(len(rows), 512)), *shared))[: len(rows)]
     return out.reshape(values.shape[:-1] + out.shape[1:])
 
 
 def _per_frame(kernel, frames: Sequence[np.ndarray]) -> np.ndarray:
     """``kernel(*frames)`` on the per-frame arrays padded to a power of two >= 16 frames."""
     count = len(frames[0])
-    size = _bucket(count, 16)
-    return np.asarray(kernel(*(_padded(a, size) for a in frames)))[:count]
+    size = bucket(count, 16)
+    return np.asarray(kernel(*(padded(np.asarray(a, np.float32), size) for a in frames)))[:count]
 
 
 # --- checks ----------------------------------------------------------------------------------------------
-
-
-def _array(value, field: str, expected: tuple, named: str) -> np.ndarray:
-    """``value`` as a float array of shape ``expected`` (``None`` entries: any size, at least 1)."""
-    array = np.asarray(value)
-    if array.ndim != len(expected) or any(
-        (e is None and s < 1) or (e is not None and s != e) for s, e in zip(array.shape, expected)
-    ):
-        raise ValueError(f"{field}: expected {named}, got {tuple(array.shape)}")
-    if not np.issubdtype(array.dtype, np.number):
-        raise ValueError(f"{field}: expected numbers, got dtype {array.dtype}")
-    _check_finite(array, field)
-    return array
-
-
-def _check_finite(array: np.ndarray, field: str) -> None:
-    bad = ~np.isfinite(array)
-    if bad.any():
-        first = tuple(int(i) for i in np.argwhere(bad)[0])
-        raise ValueError(f"{field}: {int(bad.sum())} non-finite values (NaN or infinite), the first at index {first}")
 
 
 def _check_order(order: str) -> None:
@@ -201,7 +172,7 @@ def _check_up(up: str) -> np.ndarray:
 
 
 def _root_rest(root_rest) -> np.ndarray:
-    return np.zeros(3) if root_rest is None else _array(root_rest, "root_rest", (3,), "[3]").astype(np.float64)
+    return np.zeros(3) if root_rest is None else checked(root_rest, "root_rest", (3,), "[3]").astype(np.float64)
 
 
 # --- offsets and joints ------------------------------------------------------------------------------------
@@ -223,11 +194,11 @@ def rest_offsets(rotations, joints, parents: tuple[int, ...]) -> np.ndarray:
     num_joints = len(parents)
     rotations, joints = np.asarray(rotations), np.asarray(joints)
     if rotations.ndim == 3:
-        rotations = _array(rotations, "rotations", (None, num_joints, 3), f"[T, {num_joints}, 3]")[0]
-    rotations = _array(rotations, "rotations", (num_joints, 3), f"[J, 3] or [T, J, 3] with J = {num_joints}")
+        rotations = checked(rotations, "rotations", (None, num_joints, 3), f"[T, {num_joints}, 3]")[0]
+    rotations = checked(rotations, "rotations", (num_joints, 3), f"[J, 3] or [T, J, 3] with J = {num_joints}")
     if joints.ndim == 3:
-        joints = _array(joints, "joints", (None, num_joints, 3), f"[T, {num_joints}, 3]")[0]
-    joints = _array(joints, "joints", (num_joints, 3), f"[J, 3] or [T, J, 3] with J = {num_joints}")
+        joints = checked(joints, "joints", (None, num_joints, 3), f"[T, {num_joints}, 3]")[0]
+    joints = checked(joints, "joints", (num_joints, 3), f"[J, 3] or [T, J, 3] with J = {num_joints}")
     local = _rows(axis_angle_to_matrix, rotations).astype(np.float64)
     points = joints.astype(np.float64)
     # Composed in numpy: one frame does not pay for compiling forward kinematics.
@@ -247,7 +218,7 @@ def rest_offsets(rotations, joints, parents: tuple[int, ...]) -> np.ndarray:
 
 def save_joints_npy(path: str | Path, joints) -> Path:
     """Write joint positions ``[T, J, 3]`` (library frame, metres) as float32 ``.npy`` at ``path``."""
-    joints = _array(joints, "joints", (None, None, 3), "[T, J, 3]").astype(np.float32)
+    joints = checked(joints, "joints", (None, None, 3), "[T, J, 3]").astype(np.float32)
     path = Path(path)
     with path.open("wb") as file:  # a file object: np.save would append ".npy" to a path lacking it
         np.save(file, joints)
@@ -283,7 +254,7 @@ class AmassOptions:
         if self.layout not in _LAYOUTS:
             raise ValueError(f"layout: expected one of {list(_LAYOUTS)}, got {self.layout!r}")
         if len(self.betas):
-            object.__setattr__(self, "betas", tuple(float(b) for b in _array(self.betas, "betas", (None,), "[S]")))
+            object.__setattr__(self, "betas", tuple(float(b) for b in checked(self.betas, "betas", (None,), "[S]")))
         if self.gender not in _GENDERS:
             raise ValueError(f"gender: expected one of {list(_GENDERS)}, got {self.gender!r}")
         _check_up(self.up)
@@ -302,30 +273,71 @@ class AmassOptions:
         return cls(betas=betas, root_rest=tuple(pelvis), **options)
 
 
-def amass_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the flags of :class:`AmassOptions` to a command line (the compose command, every experiment's
-    ``--export``); :func:`amass_options` reads them back."""
-    group = parser.add_argument_group("AMASS npz files")
+#: The BVH joint names of :class:`ExportOptions`'s ``rig``: the skeleton's own, or Mixamo's bone names (SMPL-24).
+RIGS = ("smpl", "mixamo")
+
+
+@dataclasses.dataclass(frozen=True)
+class ExportOptions:
+    """How :func:`export_motions` writes, beyond the formats.
+
+    Attributes:
+      amass: what npz files say about the body (:class:`AmassOptions`).
+      rig: the BVH's joint names: ``"smpl"``, the skeleton's own; ``"mixamo"``, Mixamo's bone names with the
+        ``mixamorig:`` prefix (:func:`~jaxmotion.data.retarget.mixamo_names`; SMPL-24 only), for retargeting.
+      clean_feet: hold each foot still while it bears weight (:func:`~jaxmotion.data.retarget.clean_feet`) before
+        anything is written, so every format (the npy's joints too) carries the cleaned motion.
+      order: the BVH Euler order (:func:`save_bvh`).
+    """
+
+    amass: AmassOptions = AmassOptions()
+    rig: str = "smpl"
+    clean_feet: bool = False
+    order: str = "ZXY"
+
+    def __post_init__(self):
+        if self.rig not in RIGS:
+            raise ValueError(f"rig: expected one of {list(RIGS)}, got {self.rig!r}")
+        _check_order(self.order)
+
+
+def export_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the flags of :class:`ExportOptions` to a command line (the compose command, every experiment's
+    ``--export``); :func:`export_options` reads them back."""
+    group = parser.add_argument_group("exported files")
     group.add_argument("--npz-layout", choices=list(_LAYOUTS), default="smplh",
-                       help="smplh: poses [T, 156] as AMASS's own files (default); smpl: poses [T, 72]")
-    group.add_argument("--betas", default="", metavar="B1,B2,...", help="the body's shape coefficients (default zeros)")
-    group.add_argument("--gender", choices=_GENDERS, default="neutral", help="the body model a reader loads")
+                       help="npz: smplh, poses [T, 156] as AMASS's own files (default); smpl, poses [T, 72]")
+    group.add_argument("--betas", default="", metavar="B1,B2,...",
+                       help="npz: the body's shape coefficients (default zeros)")
+    group.add_argument("--gender", choices=_GENDERS, default="neutral", help="npz: the body model a reader loads")
     group.add_argument("--body-model", metavar="FILE",
-                       help="an SMPL(+H)-format body model (.npz or .pkl): trans follows its rest pelvis for the "
+                       help="npz: an SMPL(+H)-format body model (.npz or .pkl): trans follows its rest pelvis for the "
                             "betas, so that the model posed by the file stands on the motion's root (without one, "
                             "trans is the root position)")
+    group.add_argument("--rig", choices=RIGS, default="smpl",
+                       help="bvh: joint names, SMPL's (default) or Mixamo's (mixamorig:Hips, ...) for retargeting")
+    group.add_argument("--clean-feet", action="store_true",
+                       help="hold each foot still while it bears weight (two-bone IK on the legs) before writing")
 
 
-def amass_options(args: argparse.Namespace) -> AmassOptions:
-    """The :class:`AmassOptions` the flags of :func:`amass_arguments` ask for (the body model loaded)."""
+def export_options(args: argparse.Namespace, formats: Sequence[str]) -> ExportOptions:
+    """The :class:`ExportOptions` the flags of :func:`export_arguments` ask for (the body model loaded), checked
+    against the ``formats`` written: a flag for a format not written is refused."""
     try:
         betas = tuple(float(b) for b in args.betas.split(",") if b.strip())
     except ValueError:
         raise ValueError(f"--betas: expected comma-separated numbers, got {args.betas!r}") from None
-    options = {"layout": args.npz_layout, "gender": args.gender}
-    if args.body_model:
-        return AmassOptions.for_body(load_body_model(args.body_model), betas, **options)
-    return AmassOptions(betas=betas, **options)
+    npz = {"layout": args.npz_layout, "gender": args.gender}
+    amass = (AmassOptions.for_body(load_body_model(args.body_model), betas, **npz) if args.body_model
+             else AmassOptions(betas=betas, **npz))
+    if amass != AmassOptions() and "npz" not in formats:
+        raise ValueError(f"--npz-layout, --betas, --gender, --body-model: they say what npz files hold; the formats "
+                         f"written are {', '.join(formats) or 'none'}")
+    if args.rig != "smpl" and "bvh" not in formats:
+        raise ValueError(f"--rig: it names a BVH's joints; the formats written are {', '.join(formats) or 'none'}")
+    if args.clean_feet and not formats:
+        raise ValueError("--clean-feet: no motion files are written")
+    return ExportOptions(amass=amass, rig=args.rig, clean_feet=args.clean_feet)
 
 
 def save_amass_npz(path: str | Path, rotations, translation, fps: float,
@@ -338,9 +350,9 @@ def save_amass_npz(path: str | Path, rotations, translation, fps: float,
       fps: frames per second (``mocap_framerate``).
       options: layout, betas, gender, up axis and the body model's rest pelvis (:class:`AmassOptions`).
     """
-    rotations = _array(rotations, "rotations", (None, 24, 3), "[T, 24, 3]")
+    rotations = checked(rotations, "rotations", (None, 24, 3), "[T, 24, 3]")
     frames = rotations.shape[0]
-    translation = _array(translation, "translation", (frames, 3), f"[T, 3] = ({frames}, 3)")
+    translation = checked(translation, "translation", (frames, 3), f"[T, 3] = ({frames}, 3)")
     fps, turn = _check_fps(fps), _check_up(options.up)
     width, betas_width = _LAYOUTS[options.layout]
     body = 24 if options.layout == "smpl" else _BODY_JOINTS
@@ -376,7 +388,7 @@ def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=N
     turn = _check_up(up)
     if body is not None and root_rest is not None:
         raise ValueError("root_rest, body: give one of them (body: its rest pelvis for the file's betas)")
-    offsets = SMPL24.offsets if offsets is None else _array(offsets, "offsets", (24, 3), "[24, 3]")
+    offsets = SMPL24.offsets if offsets is None else checked(offsets, "offsets", (24, 3), "[24, 3]")
     with np.load(path, allow_pickle=False) as data:
         missing = [key for key in ("poses", "trans", "mocap_framerate") if key not in data.files]
         if missing:
@@ -393,9 +405,9 @@ def load_amass_npz(path: str | Path, *, up: str = "z", offsets=None, root_rest=N
     if width not in (_SMPL_POSE, _SMPLH_POSE) or len(poses) < 1:
         raise ValueError(f"{path}: poses: expected [T, {_SMPL_POSE}] (SMPL) or [T, {_SMPLH_POSE}] (SMPL+H), "
                          f"got {poses.shape}")
-    _check_finite(poses, f"{path}: poses")
+    check_finite(poses, f"{path}: poses")
     frames = len(poses)
-    trans = _array(trans, f"{path}: trans", (frames, 3), f"[T, 3] = ({frames}, 3)")
+    trans = checked(trans, f"{path}: trans", (frames, 3), f"[T, 3] = ({frames}, 3)")
     rotations = np.zeros((frames, 24, 3), np.float32)
     body = 24 if width == _SMPL_POSE else _BODY_JOINTS
     rotations[:, :body] = poses[:, : body * 3].reshape(frames, body, 3)
@@ -477,10 +489,10 @@ def save_bvh(path: str | Path, rotations, translation, offsets, parents: tuple[i
     parents = tuple(int(p) for p in parents)
     topological_order(parents)
     num_joints = len(parents)
-    rotations = _array(rotations, "rotations", (None, num_joints, 3), f"[T, {num_joints}, 3]")
+    rotations = checked(rotations, "rotations", (None, num_joints, 3), f"[T, {num_joints}, 3]")
     frames = rotations.shape[0]
-    translation = _array(translation, "translation", (frames, 3), f"[T, 3] = ({frames}, 3)")
-    offsets = _array(offsets, "offsets", (num_joints, 3), f"[{num_joints}, 3]").astype(np.float64)
+    translation = checked(translation, "translation", (frames, 3), f"[T, 3] = ({frames}, 3)")
+    offsets = checked(offsets, "offsets", (num_joints, 3), f"[{num_joints}, 3]").astype(np.float64)
     names, fps = _check_names(names, num_joints), _check_fps(fps)
     _check_order(order)
 
@@ -714,18 +726,26 @@ def _batch_clips(motions: Mapping, num_joints: int) -> list[_Clip]:
     if "joints" not in motions:
         raise ValueError(f"motions: expected a batch with 'joints' [N, T, {num_joints}, 3] (and optionally "
                          f"rotations, translation, lengths or mask), got keys {sorted(motions)}")
-    joints = _array(motions["joints"], "joints", (None, None, num_joints, 3), f"[N, T, {num_joints}, 3]")
+    joints = checked(motions["joints"], "joints", (None, None, num_joints, 3), f"[N, T, {num_joints}, 3]")
     count, frames = joints.shape[:2]
     rotations = translation = None
     if motions.get("rotations") is not None:
-        rotations = _array(motions["rotations"], "rotations", (count, frames, num_joints, 3),
+        rotations = checked(motions["rotations"], "rotations", (count, frames, num_joints, 3),
                            f"[N, T, {num_joints}, 3] = ({count}, {frames}, {num_joints}, 3)")
     if motions.get("translation") is not None:
-        translation = _array(motions["translation"], "translation", (count, frames, 3),
+        translation = checked(motions["translation"], "translation", (count, frames, 3),
                              f"[N, T, 3] = ({count}, {frames}, 3)")
     lengths = _batch_lengths(motions, count, frames)
     return [_Clip(joints[n, :t], None if rotations is None else rotations[n, :t],
                   None if translation is None else translation[n, :t]) for n, t in enumerate(lengths)]
+
+
+def _feet_cleaned(clip: _Clip, parents: tuple[int, ...], fps: float) -> _Clip:
+    """The clip with its feet held while they bear weight (:func:`~jaxmotion.data.retarget.clean_feet`) and its
+    joints posed again from the new rotations on its own offsets."""
+    offsets = rest_offsets(clip.rotations, clip.joints, parents)
+    rotations = clean_feet(clip.rotations, clip.translation, offsets, parents, fps=fps).rotations
+    return _Clip(_joints(rotations, clip.translation, offsets, parents), rotations, clip.translation)
 
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9._#+-]")
@@ -749,7 +769,7 @@ def _file_names(names, defaults: Sequence[str]) -> list[str]:
 
 def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleton: Skeleton | None = None,
                    fps: float | None = None, formats: Sequence[str] = FORMATS, names: Sequence[str] | None = None,
-                   *, order: str = "ZXY", amass: AmassOptions = AmassOptions()) -> list[Path]:
+                   *, options: ExportOptions = ExportOptions()) -> list[Path]:
     """Write every motion in every format: ``folder/<name>.<format>``, exactly each motion's own frames.
 
     Args:
@@ -763,8 +783,8 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
         translation; offsets from :func:`rest_offsets` per motion. ``npz``: the same, on the SMPL-24 tree only.
       names: one file stem per motion; default the dataset's clip names (characters other than letters,
         digits and ``._#+-`` replaced by ``_``), or ``0000``, ``0001``, ... for a batch.
-      order: the BVH Euler order (see :func:`save_bvh`).
-      amass: the npz files' layout, betas, gender, up axis and body model convention (:class:`AmassOptions`).
+      options: the npz files' body, the BVH's joint names and Euler order, the foot clean-up
+        (:class:`ExportOptions`).
 
     Returns:
       The paths written, motion by motion, in the order of ``formats``. Everything is checked before the
@@ -789,40 +809,49 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
     else:
         raise TypeError(f"motions: expected a MotionDataset or a batch mapping, got {type(motions).__name__}")
     stems = _file_names(names, defaults)
-    rotation_formats = [f for f in formats if f in ("bvh", "npz")]
+    rotation_formats = [f for f in formats if f in ("bvh", "npz")] + ["clean_feet"] * options.clean_feet
     if rotation_formats:
         fps = _check_fps(fps)
-        _check_order(order)
         for field in ("rotations", "translation"):
             if clips and getattr(clips[0], field) is None:
+                what = "" if options.clean_feet else "; only 'npy' (joint positions) can be written"
                 raise ValueError(f"{rotation_formats[0]}: needs {field} ([N, T, J, 3] axis-angle rotations and "
-                                 f"[N, T, 3] root translation); these motions have none; only 'npy' (joint "
-                                 f"positions) can be written")
+                                 f"[N, T, 3] root translation); these motions have none{what}")
     if "npz" in formats and skeleton.parents != SMPL24.parents:
         raise ValueError(f"npz: SMPL parameters need the 24-joint SMPL tree; {skeleton.name} has "
                          f"{skeleton.num_joints} joints")
+    smpl = skeleton.parents == SMPL24.parents
+    if options.clean_feet and not smpl:
+        raise ValueError(f"clean_feet: the legs it holds are SMPL-24's; {skeleton.name} has {skeleton.num_joints} "
+                         f"joints")
+    if "bvh" in formats and options.rig == "mixamo" and not smpl:
+        raise ValueError(f"rig: Mixamo's names are for the SMPL-24 tree; {skeleton.name} has {skeleton.num_joints} "
+                         f"joints")
+    joint_names = mixamo_names() if options.rig == "mixamo" else skeleton.joint_names
     if "bvh" in formats:
-        _check_names(skeleton.joint_names, skeleton.num_joints)
+        _check_names(joint_names, skeleton.num_joints)
     for stem, clip in zip(stems, clips):  # every motion before the first file: a bad one must not leave half an export
-        _check_finite(np.asarray(clip.joints), f"motion {stem!r}: joints")
+        check_finite(np.asarray(clip.joints), f"motion {stem!r}: joints")
         if rotation_formats:
-            _check_finite(np.asarray(clip.rotations), f"motion {stem!r}: rotations")
-            _check_finite(np.asarray(clip.translation), f"motion {stem!r}: translation")
+            check_finite(np.asarray(clip.rotations), f"motion {stem!r}: rotations")
+            check_finite(np.asarray(clip.translation), f"motion {stem!r}: translation")
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     written = []
     with phase(f"[export] {folder.name}", len(clips), unit="motion") as bar:
         for stem, clip in zip(stems, clips):
+            if options.clean_feet:
+                clip = _feet_cleaned(clip, skeleton.parents, fps)
             for fmt in formats:
                 path = folder / f"{stem}.{fmt}"
                 if fmt == "npy":
                     written.append(save_joints_npy(path, clip.joints))
                 elif fmt == "npz":
-                    written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, amass))
+                    written.append(save_amass_npz(path, clip.rotations, clip.translation, fps, options.amass))
                 else:
                     offsets = rest_offsets(clip.rotations, clip.joints, skeleton.parents)
                     written.append(save_bvh(path, clip.rotations, clip.translation, offsets, skeleton.parents,
-                                            skeleton.joint_names, fps, order))
+                                            joint_names, fps, options.order))
             bar.advance()
     return written

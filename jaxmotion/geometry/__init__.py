@@ -8,6 +8,7 @@ Euler angles follow BVH (order "ZXY": R = R_z @ R_x @ R_y).
 from jaxmotion.geometry.body import (
     BodyModel, body_forward, body_forward_rotmats, load_body_model, rest_joints, save_body_model, skinning_transforms,
 )
+from jaxmotion.geometry.ik import two_bone_ik, two_bone_pose
 from jaxmotion.geometry.kinematics import (
     apply_transform,
     bone_lengths,
@@ -56,6 +57,7 @@ from jaxmotion.geometry.skeletons import (
 __all__ = [
     "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "save_body_model",
     "skinning_transforms",
+    "two_bone_ik", "two_bone_pose",
     "apply_transform", "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",
     "forward_kinematics_transforms", "heading_transform", "humanact12_to_library_frame", "inverse_transform",
     "library_to_humanact12_frame", "root_relative", "root_trajectory", "transform_motion", "transform_root",
