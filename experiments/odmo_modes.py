@@ -44,7 +44,7 @@ from jaxmotion import experiment
 from jaxmotion.config import FrozenMap, check_at_least
 from jaxmotion.data.motion import Motion
 from jaxmotion.data.pipeline import BatchSpec, class_windows, map_in_chunks
-from jaxmotion.data.preview import filmstrip
+from jaxmotion.viz.motion import filmstrip
 from jaxmotion.evaluation.claims import Claim
 from jaxmotion.evaluation.tables import TableData, interleave_reported, real_sets, side_by_side, slug
 from jaxmotion.pipelines.actor import posterior

@@ -42,7 +42,7 @@ from jaxmotion.pipelines.load import load_generator
 from jaxmotion.pipelines.marionette import ContextGenerator
 from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path, chain_actions, joined, program_conditions
 from jaxmotion.recipes.evaluators import evaluator_spec
-from jaxmotion.data.preview import take_animation, take_strip
+from jaxmotion.viz.motion import take_animation, take_strip
 
 _ACTION = re.compile(r"^(?P<tags>.+?)\s+(?P<amount>\d+(?:\.\d+)?)(?P<unit>s|f)(?:\s+along\s+(?P<path>.+))?$")
 _POINT = re.compile(r"^(-?\d+(?:\.\d+)?),(-?\d+(?:\.\d+)?)$")

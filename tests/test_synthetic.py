@@ -169,24 +169,24 @@ def test_unknown_variant_lists_valid_names():
 
 
 @pytest.mark.parametrize("args, message", [
-    (["synth-nothing"], "jaxmotion.data.preview: unknown synthetic variant 'synth-nothing'"),
+    (["synth-nothing"], "jaxmotion.viz.preview: unknown synthetic variant 'synth-nothing'"),
     (["synth-humanact12", "--count", "12", "--classes", "0,12"],
-     r"jaxmotion.data.preview: classes: expected class indices of synth-humanact12 in \[0, 12\), got \[12\]"),
+     r"jaxmotion.viz.preview: classes: expected class indices of synth-humanact12 in \[0, 12\), got \[12\]"),
 ])
 def test_preview_command_refuses_what_it_cannot_draw_in_one_line(tmp_path, args, message):
-    from jaxmotion.data import preview
+    from jaxmotion.viz import preview
 
     with pytest.raises(SystemExit, match=message):
         preview.main([*args, "--png", "--out", str(tmp_path / "grid.png")])
 
 
 def test_preview_renders_a_still_grid_a_gif_and_a_filmstrip(tmp_path):
-    from jaxmotion.data import preview
+    from jaxmotion.viz import motion as pictures
 
     data = synthetic.generate("synth-humanact12", count=36)
-    preview.render_grid(data, [0, 1], str(tmp_path / "grid.png"), still=True)
-    preview.render_grid(data, [3], str(tmp_path / "grid.gif"), max_frames=3)
-    preview.filmstrip(data[0], data.skeleton, str(tmp_path / "strip.png"), frames=3)
+    pictures.render_grid(data, [0, 1], str(tmp_path / "grid.png"), still=True)
+    pictures.render_grid(data, [3], str(tmp_path / "grid.gif"), max_frames=3)
+    pictures.filmstrip(data[0], data.skeleton, str(tmp_path / "strip.png"), frames=3)
     for name in ("grid.png", "grid.gif", "strip.png"):
         assert (tmp_path / name).stat().st_size > 1000
 

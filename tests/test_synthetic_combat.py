@@ -1,11 +1,12 @@
 """synth-combat-2p .. 5p (GTA Combat stand-ins): GTA-22 scenes of 2-5 fighters, strikes, defences, knockdowns;
-the multi-person preview."""
+the multi-person pictures."""
 
 import numpy as np
 import pytest
 
-from jaxmotion.data import preview, synthetic
+from jaxmotion.data import synthetic
 from jaxmotion.geometry import GTA22
+from jaxmotion.viz import motion as pictures
 
 
 @pytest.fixture(scope="module", params=[2, 5])
@@ -49,7 +50,7 @@ def test_brawls_knock_fighters_down_and_they_get_up():
 
 
 def test_multi_person_previews_render(fights, tmp_path):
-    preview.filmstrip(fights[0], fights.skeleton, str(tmp_path / "strip.png"), frames=3)
-    preview.render_grid(fights, [0], str(tmp_path / "grid.png"), still=True)
-    preview.render_grid(fights, [0], str(tmp_path / "grid.gif"), max_frames=3)
+    pictures.filmstrip(fights[0], fights.skeleton, str(tmp_path / "strip.png"), frames=3)
+    pictures.render_grid(fights, [0], str(tmp_path / "grid.png"), still=True)
+    pictures.render_grid(fights, [0], str(tmp_path / "grid.gif"), max_frames=3)
     assert all((tmp_path / f).stat().st_size > 1000 for f in ("strip.png", "grid.png", "grid.gif"))

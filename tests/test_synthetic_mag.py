@@ -166,10 +166,11 @@ def test_feet_do_not_slide_while_they_bear_weight(sample):
 def test_preview_draws_a_take_with_its_timeline_and_the_transition_matrix(sample, tmp_path):
     from PIL import Image
 
-    from jaxmotion.data import Motion, pack, preview
+    from jaxmotion.data import Motion, pack
+    from jaxmotion.viz import motion as pictures
 
-    preview.take_strip(sample, 1, str(tmp_path / "take.png"), frames=6)
-    preview.transition_heatmap(sample, str(tmp_path / "transitions.png"))
+    pictures.take_strip(sample, 1, str(tmp_path / "take.png"), frames=6)
+    pictures.transition_heatmap(sample, str(tmp_path / "transitions.png"))
     # the animation on a short take cut from the sample (a whole take renders for a minute)
     whole = sample[1]
     rows = whole.segments.select([0])
@@ -177,14 +178,14 @@ def test_preview_draws_a_take_with_its_timeline_and_the_transition_matrix(sample
                    segments=type(rows)(rows.sequence[:2], np.array([8, 16], np.int32), np.array([16, 24], np.int32),
                                        rows.tags[:2], rows.next_tags[:2], rows.modes[:2]))
     data = pack([short], name=NAME, split="test", class_names=sample.class_names, skeleton=SMPL24, fps=30)
-    preview.take_animation(data, 0, str(tmp_path / "take.gif"))
+    pictures.take_animation(data, 0, str(tmp_path / "take.gif"))
     with Image.open(tmp_path / "take.gif") as gif:
         assert gif.n_frames == 24
     for name in ("take.png", "transitions.png"):
         with Image.open(tmp_path / name) as image:
             assert image.size[0] > 300
     with pytest.raises(ValueError, match="take: expected an index in \\[0, 1\\)"):
-        preview.take_strip(data, 1, str(tmp_path / "none.png"))
+        pictures.take_strip(data, 1, str(tmp_path / "none.png"))
 
 
 def test_action_items_batch_whole_with_their_tags_and_padding_masks(sample):

@@ -16,10 +16,10 @@ import jax
 import numpy as np
 
 from jaxmotion.data.motion import MotionDataset, concatenate, on_the_floor, to_dataset
-from jaxmotion.data.preview import render_grid
 from jaxmotion.evaluation.protocol import Sampler
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.progress import phase
+from jaxmotion.viz.motion import render_grid
 
 
 def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_names: Sequence[str], fps: float,
@@ -27,9 +27,10 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
                     still: bool = False) -> MotionDataset:
     """Save a grid of generated motions, one row per action (``actions``: a list of class indices, or a count
     meaning the first ones), ``per_action`` ``duration``-frame samples per row, rendered by
-    :func:`~jaxmotion.data.preview.render_grid`: an animated GIF, or with ``still`` a PNG of key poses (several
-    persons drawn together, each in its own colours). Returns the generated motions (mode k = sample k), placed
-    on the floor (:func:`~jaxmotion.data.motion.on_the_floor`)."""
+    :func:`~jaxmotion.viz.motion.render_grid`: an animation as ``path``'s suffix says (``.gif``, or ``.mp4`` with
+    the ``video`` extra), or with ``still`` a PNG of key poses (several persons drawn together, each in its own
+    colours). Returns the generated motions (mode k = sample k), placed on the floor
+    (:func:`~jaxmotion.data.motion.on_the_floor`)."""
     actions = list(range(actions)) if isinstance(actions, int) else [int(a) for a in actions]
     if not actions:
         raise ValueError("actions: expected at least one action (a count >= 1 or a non-empty list)")
@@ -78,7 +79,8 @@ def marionette_pictures(generator, key: jax.Array, folder: str | Path) -> list[P
                if tag in started]
     k_sampled, k_mean = jax.random.split(key)
     sampled = generator.actions(k_sampled, [t for t, _ in figure5] + [base, base],
-                                [d for _, d in figure5] + [frames, frames], contexts=[None] * len(figure5) + [first] * 2)
+                                [d for _, d in figure5] + [frames, frames],
+                                contexts=[None] * len(figure5) + [first] * 2)
     mean = generator.actions(k_mean, [base, base, base, other], [frames, longer, frames, frames],
                              contexts=[first, first, second, first], mean=True)
     labels5 = [f"{tag} {d / fps:.2f} s" for tag, d in figure5]
