@@ -107,7 +107,8 @@ class ActFormerMultiConfig(experiment.ProfileConfig):
 
 
 def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
-    """Figure 5's pictures: key poses of ActFormer's generated scenes, ``<workdir>/<dataset>-generated.png``."""
+    """Figure 5's pictures: key poses of ActFormer's generated scenes, ``<workdir>/<dataset>-generated.png`` (with
+    ``--video`` also ``.mp4``)."""
 
     frames = {d.table.label: d.rows["ActFormer"].generator.frames for d in (config.ntu2p, *config.combat.values())}
 
@@ -116,7 +117,7 @@ def _pictures(config: ActFormerMultiConfig, ctx: experiment.RunContext):
         path = ctx.workdir / f"{slug(table.label)}-generated.png"
         generation_grid(samplers["ActFormer"], ctx.key(f"pictures {table.label}"), train.skeleton,
                         train.class_names, train.fps, actions, path, per_action=config.picture_samples,
-                        duration=frames[table.label], still=True)
+                        duration=frames[table.label], still=True, video=ctx.video)
 
     return draw
 
@@ -132,7 +133,8 @@ def run(config: ActFormerMultiConfig, ctx: experiment.RunContext):
 
 
 def main(argv=None):
-    return experiment.main("actformer_multi", ActFormerMultiConfig, run, argv, description=__doc__, claims=CLAIMS)
+    return experiment.main("actformer_multi", ActFormerMultiConfig, run, argv, description=__doc__, claims=CLAIMS,
+                           videos=True)
 
 
 if __name__ == "__main__":

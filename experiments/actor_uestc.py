@@ -18,8 +18,8 @@ Measured tables, each with the run record of the machine that made it: ``docs/re
 (``python -m jaxmotion.results``).
 
 Outputs in ``results/actor_uestc/<profile>/seed-<n>/``: the table (rows ACTOR and Real, plus the paper's
-numbers as "reported" rows), ``generated.gif`` (3 generated motions for each of the first actions) and
-the checkpoints of the trained model.
+numbers as "reported" rows), ``generated.gif`` (3 generated motions for each of the first actions; with
+``--video`` also ``generated.mp4``) and the checkpoints of the trained model.
 """
 
 from __future__ import annotations
@@ -77,14 +77,14 @@ def run(config: ActorUestcConfig, ctx: experiment.RunContext):
                                     mesh=ctx.mesh))
     generated = generation_grid(samplers["ACTOR"], ctx.key("pictures"), train.skeleton,
                                 train.class_names, train.fps, min(config.picture_actions, train.num_classes),
-                                ctx.workdir / "generated.gif", duration=config.picture_frames)
+                                ctx.workdir / "generated.gif", duration=config.picture_frames, video=ctx.video)
     ctx.export(generated)
     return {**rows, **REPORTED}
 
 
 def main(argv=None):
     return experiment.main("actor_uestc", ActorUestcConfig, run, argv, description=__doc__, claims=CLAIMS,
-                           exports=True)
+                           exports=True, videos=True)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@ Table: rows MARIONET, MANN, A2M, ACTOR, each followed by the paper's numbers ("(
 actions: Acc, Div, Multi-mod; FID "/" as the paper). Columns FID, Acc (a fraction, as the paper prints it), Div,
 Multi-mod, ΔTraj (metres, over the actions that follow a path). Pictures: ``figure5.png`` (eight generated actions
 with the paper's durations) and ``figure6.png`` (controllability: one action, Z sampled twice, another duration,
-another start, another tag), from MARIONET.
+another start, another tag), from MARIONET; with ``--video`` also ``figure5.mp4`` and ``figure6.mp4``, the same
+actions animated.
 
 What differs from the paper, and why:
 
@@ -85,12 +86,13 @@ def run(config: MarionetSingleConfig, ctx: experiment.RunContext):
     rows = run_action_table(config.rows, config.table, workdir=ctx.workdir, train_key=ctx.key("train"),
                             eval_key=ctx.key("eval"), data_root=ctx.data_root, mesh=ctx.mesh,
                             writers=ctx.writers, lenders=ctx.runs(*EXPERIMENTS))
-    marionette_pictures(load_generator(ctx.workdir, row="marionet"), ctx.key("pictures"), ctx.workdir)
+    marionette_pictures(load_generator(ctx.workdir, row="marionet"), ctx.key("pictures"), ctx.workdir, video=ctx.video)
     return interleave_reported(rows, REPORTED, ROWS)
 
 
 def main(argv=None):
-    return experiment.main("marionet_single", MarionetSingleConfig, run, argv, description=__doc__, claims=CLAIMS)
+    return experiment.main("marionet_single", MarionetSingleConfig, run, argv, description=__doc__, claims=CLAIMS,
+                           videos=True)
 
 
 if __name__ == "__main__":

@@ -10,8 +10,9 @@ over the origin, facing +z), the control points of the Bézier curve its root fo
 cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.npy`` (joints); the segment table
 (tags, first frame and end frame, whether Shadow Start or Action Revision acted) is written beside it as
 ``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline (with
-``--gif`` also ``<name>.gif``: the body in 3D with the timeline's cursor; seconds of rendering per hundred frames,
-so off by default). An action
+``--gif`` also ``<name>.gif`` and with ``--video`` ``<name>.mp4``: the body in 3D with the timeline's cursor; seconds
+of rendering per hundred frames, so off by default; the pictures show the motion as generated, before
+``--clean-feet``). An action
 whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
 chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
 classifier ``--reviser``, trained once and cached); where Shadow Start acts, ``--smoothing`` frames blend the action
@@ -43,6 +44,7 @@ from jaxmotion.pipelines.marionette import ContextGenerator
 from jaxmotion.pipelines.multi_action import ChainOptions, bezier_path, chain_actions, joined, program_conditions
 from jaxmotion.recipes.evaluators import evaluator_spec
 from jaxmotion.viz.motion import take_animation, take_strip
+from jaxmotion.viz.video import check_video_path
 
 _ACTION = re.compile(r"^(?P<tags>.+?)\s+(?P<amount>\d+(?:\.\d+)?)(?P<unit>s|f)(?:\s+along\s+(?P<path>.+))?$")
 _POINT = re.compile(r"^(-?\d+(?:\.\d+)?),(-?\d+(?:\.\d+)?)$")
@@ -168,12 +170,16 @@ def main(argv: Sequence[str] | None = None) -> Path:
     export_arguments(parser)
     parser.add_argument("--gif", action="store_true",
                         help="also write <name>.gif: the body in 3D above the tag timeline with a moving cursor")
+    parser.add_argument("--video", action="store_true",
+                        help="also write <name>.mp4, the same animation as a video (needs jaxmotion[video])")
     args = parser.parse_args(argv)
     out = Path(args.out)
     try:
         if out.suffix not in FORMATS:
             raise ValueError(f"--out: expected a .bvh, .npz or .npy file, got {out.name!r}")
         export = export_options(args, (FORMATS[out.suffix],))
+        if args.video:
+            check_video_path(out.with_suffix(".mp4"), "--video")  # the video extra, before anything is generated
         generator = load_generator(args.run, row=args.row)
         if not isinstance(generator, ContextGenerator):
             raise ValueError(f"RUN: {args.run} holds a {generator.method} generator, which does not continue a "
@@ -187,7 +193,7 @@ def main(argv: Sequence[str] | None = None) -> Path:
         options = ChainOptions(args.shadow, smoothing=args.smoothing, orientation=not args.no_orientation)
         motion = compose(generator, program, jax.random.key(args.seed), options=options, reviser=reviser,
                          mean=args.mean)
-    except (ValueError, FileNotFoundError) as error:
+    except (ValueError, FileNotFoundError, ImportError) as error:
         parser.exit(2, f"{parser.prog}: error: {error}\n")
     batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
     written = export_motions(out.parent, batch, generator.facts.skeleton, generator.fps, formats=(FORMATS[out.suffix],),
@@ -195,11 +201,12 @@ def main(argv: Sequence[str] | None = None) -> Path:
     table = out.with_name(f"{out.stem}.segments.json")
     write_atomic(table, json.dumps({"fps": generator.fps, "frames": len(motion["joints"]),
                                     "segments": motion["segments"]}, indent=1).encode())
-    pictures = [out.with_suffix(".png")] + [out.with_suffix(".gif")] * args.gif
+    animations = [out.with_suffix(suffix) for suffix, wanted in ((".gif", args.gif), (".mp4", args.video)) if wanted]
+    pictures = [out.with_suffix(".png"), *animations]
     as_dataset = motion_dataset(generator, motion, out.stem)
     take_strip(as_dataset, 0, str(pictures[0]))
-    if args.gif:
-        take_animation(as_dataset, 0, str(pictures[1]))
+    for path in animations:
+        take_animation(as_dataset, 0, str(path))
     print(f"{written[0]}: {len(motion['joints'])} frames, {len(program.actions)} actions; segments in {table}, "
           f"the tag timeline with the poses in {' and '.join(map(str, pictures))}", file=sys.stderr)
     return written[0]

@@ -16,7 +16,10 @@ finished the seed: start, wall time, peak memory), ``table.md`` and ``checkpoint
 ``<out>/<experiment>/<profile>/summary.json`` and ``table.md`` hold mean ± 95% CI over the seeds.
 Re-running the same command resumes: finished seeds are read back, an interrupted one restarts from its
 last checkpoint, and a run folder made with a different config or other inputs is refused. ``--devices``
-sets the data mesh (:attr:`RunContext.mesh`), ``--export`` the formats of :meth:`RunContext.export`.
+sets the data mesh (:attr:`RunContext.mesh`), ``--export`` the formats of :meth:`RunContext.export` (and
+``--npz-layout``, ``--betas``, ``--gender``, ``--body-model``, ``--rig``, ``--clean-feet`` how they are written),
+``--log`` the training-log writers (:attr:`RunContext.writers`), ``--video`` MP4 videos beside the pictures of
+generated motions (:attr:`RunContext.video`).
 """
 
 from __future__ import annotations
@@ -50,6 +53,7 @@ from jaxmotion.evaluation.table import format_table
 from jaxmotion.recipes.tables import run_table
 from jaxmotion.files import LOCK_NAME, InUseError, folder_lock, read_json, write_atomic, write_json
 from jaxmotion.distributed import data_mesh, initialize_distributed, is_primary
+from jaxmotion.viz.video import check_video_path
 from jaxmotion.train.writers import WRITERS, WriterFactory, named_writers
 
 Rows = Mapping[str, Mapping[str, float | Sequence[float]]]
@@ -72,6 +76,7 @@ class RunContext:
     export_options: ExportOptions = ExportOptions()  # --npz-layout, --betas, ..., --rig, --clean-feet: how files say it
     devices: int | None = None  # --devices: the data mesh's size (None: every device of every process)
     log_writers: tuple[str, ...] = ()  # --log: training-log writers (jaxmotion.train.writers); not in the record
+    video: bool = False  # --video: pictures of generated motions also as MP4 videos; not in the record
 
     def __post_init__(self):
         cfglib.check_seed(self.seed, "seed")  # jax.random.key(2**32) is key(0): two seeds, one run
@@ -213,10 +218,10 @@ RunFn = Callable[[Any, RunContext], Rows]
 def run_seed(name: str, config: Any, run_fn: RunFn, *, profile: str, seed: int, out: str | Path,
              data_root: str | None = None, claims: Sequence[Claim] = (), export_formats: Sequence[str] = (),
              export_options: ExportOptions = ExportOptions(), devices: int | None = None,
-             log_writers: Sequence[str] = ()) -> dict[str, Any]:
+             log_writers: Sequence[str] = (), video: bool = False) -> dict[str, Any]:
     """Run (or resume, or read back) one seed; return the content of its ``metrics.json``."""
     ctx = RunContext(name, profile, seed, seed_folder(out, name, profile, seed), data_root,
-                     tuple(export_formats), export_options, devices, tuple(log_writers))
+                     tuple(export_formats), export_options, devices, tuple(log_writers), video)
     with (folder_lock(ctx.workdir, what="run folder") if is_primary() else contextlib.nullcontext()):
         return _run_locked(ctx, config, run_fn, claims)
 
@@ -311,11 +316,13 @@ CHECK_ERRORS = (ValueError, FileNotFoundError, ImportError)
 
 
 def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None = None,
-         description: str | None = None, claims: Sequence[Claim] = (), exports: bool = False) -> dict[str, Any]:
+         description: str | None = None, claims: Sequence[Claim] = (), exports: bool = False,
+         videos: bool = False) -> dict[str, Any]:
     """The command line every experiment shares; returns the final metrics (summary for several seeds).
     ``claims``: what the paper claims from this table (checked on every run, written with the table).
     ``exports``: whether ``run_fn`` writes generated motions through :meth:`RunContext.export`; ``--export``
-    is an error where it does not (it would write nothing)."""
+    is an error where it does not (it would write nothing). ``videos``: whether ``run_fn`` draws generated motions
+    and, with ``--video`` (:attr:`RunContext.video`), also writes them as MP4; ``--video`` is an error elsewhere."""
     check_config_class(config_cls)
     args = _parser(name, config_cls, description).parse_args(argv)
     # Everything the command line says is checked before --print-config returns, so a printed config is one
@@ -333,7 +340,12 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
         if args.devices is not None and args.devices < 1:
             raise cfglib.ConfigError(f"--devices: expected 1 or more devices, got {args.devices}")
         log_writers = _parse_writers(args.log)
-    except ValueError as err:  # ConfigError, and a profile constructor's own checks
+        if args.video:
+            if not videos:
+                raise cfglib.ConfigError(f"--video: {name} draws no generated motions; render a trained row's "
+                                         "motions with python -m jaxmotion.render")
+            check_video_path("generated.mp4", "--video")  # the video extra, before anything trains
+    except (ValueError, ImportError) as err:  # ConfigError, and a profile constructor's own checks
         raise SystemExit(f"{name}: {err}") from None
     if args.print_config:
         print(text)
@@ -353,7 +365,7 @@ def main(name: str, config_cls: type, run_fn: RunFn, argv: Sequence[str] | None 
             per_seed[seed] = run_seed(name, config, run_fn, profile=args.profile, seed=seed, out=args.out,
                                       data_root=args.data_root, claims=claims,
                                       export_formats=formats, export_options=options, devices=args.devices,
-                                      log_writers=log_writers)
+                                      log_writers=log_writers, video=args.video)
         except (RunConflictError, InUseError) as err:
             raise SystemExit(f"{name}: {err}") from None
         except CHECK_ERRORS as err:
@@ -411,6 +423,9 @@ def _parser(name: str, config_cls: type, description: str | None) -> argparse.Ar
     p.add_argument("--export", default="", metavar="FORMATS",
                    help=f"also write generated motions as any of {','.join(EXPORT_FORMATS)} (comma-separated) "
                         "under <seed folder>/export/")
+    p.add_argument("--video", action="store_true",
+                   help="also write the pictures of generated motions as MP4 videos (needs jaxmotion[video]; "
+                        "seconds of rendering per clip, so off by default)")
     p.add_argument("--print-config", action="store_true", help="print the resolved config as JSON and exit")
     export_arguments(p)
     p.add_argument("--traceback", action="store_true",

@@ -94,8 +94,10 @@ def test_generation_grid_draws_the_samplers_motions(setup, tmp_path):
     _, params, _, _ = setup
     path = tmp_path / "generated.gif"
     sampler = actor_sampler(params, MODEL, SMPL24)
-    data = generation_grid(sampler, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2, duration=4)
+    data = generation_grid(sampler, jax.random.key(5), SMPL24, ("a", "b"), 20.0, 2, path, per_action=2, duration=4,
+                           video=True)
     assert path.stat().st_size > 0 and path.read_bytes()[:3] == b"GIF"
+    assert path.with_suffix(".mp4").read_bytes()[4:8] == b"ftyp"  # the same grid as an MP4 (an ISO media file)
     np.testing.assert_array_equal(data.actions, [0, 0, 1, 1])
     np.testing.assert_array_equal(data.modes, [0, 1, 0, 1])
     direct = np.asarray(sampler(jax.random.key(5), np.array([0, 0, 1, 1]), np.full(4, 4))["joints"])

@@ -3,6 +3,7 @@ frames, Bézier paths), chained into one motion with its segment table, exported
 
 import json
 
+import imageio_ffmpeg
 import jax
 import matplotlib.pyplot as plt
 import numpy as np
@@ -72,11 +73,12 @@ def test_composed_actions_follow_one_another_with_their_segment_table(generator)
     np.testing.assert_array_equal(again["joints"], motion["joints"])  # deterministic from the key
 
 
+@pytest.mark.filterwarnings(r"ignore:os\.fork\(\) was called:RuntimeWarning")  # ffmpeg decodes in a subprocess
 def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, capsys):
     folder = generator.save(tmp_path / "generator")
     out = tmp_path / "out" / "motion.bvh"
     written = main([str(folder), "walk 15f, stand up 20f along 0,0 0.5,1", "--out", str(out), "--mean", "--gif",
-                    "--rig", "mixamo", "--clean-feet"])
+                    "--rig", "mixamo", "--clean-feet", "--video"])
     assert written == out and load_bvh(out).rotations.shape[0] == 35 and load_bvh(out).names[0] == "mixamorig:Hips"
     table = json.loads((tmp_path / "out" / "motion.segments.json").read_text())
     assert table["frames"] == 35 and [s["end"] for s in table["segments"]] == [15, 35]
@@ -87,6 +89,9 @@ def test_the_command_writes_the_motion_and_its_segments(generator, tmp_path, cap
         first = np.asarray(animation.convert("RGB"))
         animation.seek(34)
         assert np.abs(np.asarray(animation.convert("RGB"), float) - first).mean() > 0.1
+    reader = imageio_ffmpeg.read_frames(str(tmp_path / "out" / "motion.mp4"))  # --video: the same, as a video
+    next(reader)
+    assert sum(1 for _ in reader) == 35
     seen = generator.starts.transitions[TAG_NAMES.index("Walk"), TAG_NAMES.index("Stand Up")] > 0
     assert ("never saw 'Walk' followed by 'Stand Up'" in capsys.readouterr().err) == (not seen)
     for bad, message in ((["dance 1s"], "unknown tag 'dance'"), (["walk 1s", "--out", str(tmp_path / "m.txt")],

@@ -289,6 +289,7 @@ def test_a_changed_environment_is_reported_not_refused(tmp_path, capsys):
                                            (["--seeds", "0,0", "--print-config"], "--seeds: expected distinct"),
                                            (["--export", "bvh", "--betas", "1", "--print-config"],
                                             "--body-model: they say what npz files hold; the formats written are bvh"),
+                                           (["--video", "--print-config"], "toy: --video: toy draws no generated"),
                                            (["--export", "npz", "--betas", "a", "--print-config"],
                                             "--betas: expected comma-separated numbers")])
 def test_bad_devices_and_export_formats_are_clear_errors(tmp_path, args, message):

@@ -3,6 +3,7 @@
 import json
 import shutil
 
+import imageio_ffmpeg
 import numpy as np
 import pytest
 from PIL import Image
@@ -32,11 +33,13 @@ def assert_generations_vary(rows, row):
 def uestc_smoke(tmp_path_factory):
     """actor_uestc's smoke run, made once for the module: ``(seed folder, result)``."""
     out = tmp_path_factory.mktemp("uestc-smoke")
-    return out / "actor_uestc" / "smoke" / "seed-0", run_smoke(actor_uestc, out)
+    return out / "actor_uestc" / "smoke" / "seed-0", actor_uestc.main(["--profile", "smoke", "--out", str(out),
+                                                                        "--video"])
 
 
 @pytest.mark.smoke
-def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_smoke):
+@pytest.mark.filterwarnings(r"ignore:os\.fork\(\) was called:RuntimeWarning")  # ffmpeg decodes in a subprocess
+def test_actor_uestc_smoke_writes_the_table_the_gif_the_video_and_the_reported_rows(uestc_smoke):
     folder, result = uestc_smoke
     rows = result["rows"]
     assert list(rows) == ["ACTOR", "Real", "Real (reported)", "ACTOR (reported)"]
@@ -46,6 +49,10 @@ def test_actor_uestc_smoke_writes_the_table_the_gif_and_the_reported_rows(uestc_
     assert_real_recognised(rows, "Acc. (%)", UESTC_CLASSES)
     with Image.open(folder / "generated.gif") as gif:  # the smoke's short clips, one picture per frame
         assert gif.n_frames == actor_uestc.ActorUestcConfig.smoke().picture_frames
+    reader = imageio_ffmpeg.read_frames(str(folder / "generated.mp4"))  # --video: the same grid as a video
+    size = next(reader)["size"]
+    assert size == gif.size or size == tuple(s + s % 2 for s in gif.size)
+    assert sum(1 for _ in reader) == actor_uestc.ActorUestcConfig.smoke().picture_frames
     assert json.loads((folder / "metrics.json").read_text()) == result
     assert [c["claim"] for c in result["claims"]] == [str(c) for c in actor_uestc.CLAIMS]
     assert all(c["verdict"] in ("holds", "does not hold", "inconclusive") for c in result["claims"])

@@ -20,16 +20,18 @@ from jaxmotion.evaluation.protocol import Sampler
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.progress import phase
 from jaxmotion.viz.motion import render_grid
+from jaxmotion.viz.video import render_video
 
 
 def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_names: Sequence[str], fps: float,
                     actions: int | Sequence[int], path: str | Path, *, per_action: int = 3, duration: int = 60,
-                    still: bool = False) -> MotionDataset:
+                    still: bool = False, video: bool = False) -> MotionDataset:
     """Save a grid of generated motions, one row per action (``actions``: a list of class indices, or a count
     meaning the first ones), ``per_action`` ``duration``-frame samples per row, rendered by
     :func:`~jaxmotion.viz.motion.render_grid`: an animation as ``path``'s suffix says (``.gif``, or ``.mp4`` with
     the ``video`` extra), or with ``still`` a PNG of key poses (several persons drawn together, each in its own
-    colours). Returns the generated motions (mode k = sample k), placed on the floor
+    colours); ``video``: also ``path`` with the suffix ``.mp4``, the same motions animated (the ``video`` extra).
+    Returns the generated motions (mode k = sample k), placed on the floor
     (:func:`~jaxmotion.data.motion.on_the_floor`)."""
     actions = list(range(actions)) if isinstance(actions, int) else [int(a) for a in actions]
     if not actions:
@@ -49,6 +51,8 @@ def generation_grid(sampler: Sampler, key: jax.Array, skeleton: Skeleton, class_
                                    names=tuple(f"{class_names[a]} {k % per_action + 1}" for k, a in enumerate(labels)),
                                    mode_names=(samples,) * len(class_names)))
     render_grid(data, actions, str(path), still=still)
+    if video:
+        render_grid(data, actions, Path(path).with_suffix(".mp4"))
     return data
 
 
@@ -57,12 +61,13 @@ FIGURE5 = (("Jump", 1.13), ("Crossing Limbs", 1.90), ("Stand Up", 2.47), ("Kick"
            ("Walk Upward/Downward", 1.33), ("Stretch", 2.70), ("Sit Down", 3.00), ("Move Something", 2.73))
 
 
-def marionette_pictures(generator, key: jax.Array, folder: str | Path) -> list[Path]:
+def marionette_pictures(generator, key: jax.Array, folder: str | Path, *, video: bool = False) -> list[Path]:
     """Neural Marionette's Figures 5 and 6 from a trained context model (:class:`~jaxmotion.pipelines.marionette.
     ContextGenerator`), as PNG strips of key poses in ``folder``: ``figure5.png``, the eight actions of
     :data:`FIGURE5` with the paper's durations (Z sampled; tags the training data never started are left out), and
     ``figure6.png``, controllability: one action (Throw, Z = mu) beside Z sampled twice, a longer duration, another
-    start and another tag (Punch), each changing one thing. Two generations in all."""
+    start and another tag (Punch), each changing one thing. Two generations in all. ``video``: also ``figure5.mp4`` and
+    ``figure6.mp4``, the same actions animated side by side (the ``video`` extra)."""
     folder = Path(folder)
     names, starts, fps = generator.class_names, generator.starts.counts, generator.fps
     started = [tag for tag in names if starts[names.index(tag)]]
@@ -95,4 +100,6 @@ def marionette_pictures(generator, key: jax.Array, folder: str | Path) -> list[P
                                    modes=np.zeros(len(labels), np.int32), mode_names=())
         render_grid(rows, range(len(labels)), str(folder / name), still=True)
         paths.append(folder / name)
+        if video:
+            paths.append(render_video(folder / f"{Path(name).stem}.mp4", rows, columns=4))
     return paths
