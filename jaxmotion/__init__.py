@@ -10,7 +10,7 @@ Subpackages:
   evaluation   the protocol, evaluators, scoring tables, the papers' claims, statistics
   pipelines    trained models put to use (generators saved and loaded, generation, denoising, interpolation)
   recipes      each paper's home: table rows (fit + generator), profile sizes, evaluators, the table runner
-  viz          plots
+  viz          pictures and videos of motions (skeletons, meshes), plots
 Modules:
   config       frozen experiment configs: JSON round trip, typed overrides
   distributed  the data mesh over devices and hosts

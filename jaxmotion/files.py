@@ -30,21 +30,42 @@ from typing import Any, BinaryIO
 LOCK_NAME = ".lock"
 
 
+def _new_file_mode() -> int:
+    """The permissions ``open()`` gives a new file: 0o666 less the process's umask (read by setting it and setting
+    it straight back: done once, at import, before any thread of the library's could create a file meanwhile)."""
+    umask = os.umask(0o022)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+_NEW_FILE_MODE = _new_file_mode()
+
+
 @contextlib.contextmanager
-def atomic_file(path: str | Path) -> Iterator[BinaryIO]:
-    """``with atomic_file(path) as f:`` write ``f``; ``path`` appears, whole, only if the block succeeds."""
+def replaced_on_success(path: str | Path, suffix: str = ".tmp") -> Iterator[Path]:
+    """``with replaced_on_success(path) as tmp:`` write the file ``tmp`` (in ``path``'s folder, ending in ``suffix``,
+    e.g. for a program that picks its format by it); it becomes ``path`` in one rename if the block succeeds and is
+    removed otherwise. It gets the permissions a new file gets (``mkstemp`` makes it readable by its owner alone)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=suffix)
+    os.close(fd)
     try:
-        with os.fdopen(fd, "wb") as f:
-            yield f
-            f.flush()
-            os.fsync(f.fileno())
+        os.chmod(tmp, _NEW_FILE_MODE)
+        yield Path(tmp)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+@contextlib.contextmanager
+def atomic_file(path: str | Path) -> Iterator[BinaryIO]:
+    """``with atomic_file(path) as f:`` write ``f``; ``path`` appears, whole, only if the block succeeds."""
+    with replaced_on_success(path) as tmp, open(tmp, "wb") as f:
+        yield f
+        f.flush()
+        os.fsync(f.fileno())
 
 
 def write_atomic(path: str | Path, content: str | bytes) -> None:

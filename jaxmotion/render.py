@@ -29,6 +29,7 @@ import numpy as np
 from jaxmotion.compose import canonical_tag
 from jaxmotion.data.export import load_amass_npz, load_bvh
 from jaxmotion.data.motion import Motion, MotionDataset
+from jaxmotion.data.retarget import mixamo_names
 from jaxmotion.geometry.body import BodyModel, load_body_model
 from jaxmotion.geometry.kinematics import forward_kinematics
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
@@ -44,13 +45,15 @@ NPY_FPS = 30.0
 
 
 def _bvh_motion(path: Path) -> tuple[Motion, Skeleton, float]:
-    """A BVH file's motion on its own tree, or on SMPL-24 (joints reordered) when it names SMPL-24's joints with
-    SMPL-24's parents, so that a body model can pose it."""
+    """A BVH file's motion on its own tree, or on SMPL-24 (joints reordered) when it names SMPL-24's joints (or
+    their Mixamo names, :mod:`jaxmotion.data.retarget`) with SMPL-24's parents, so that a body model can pose it."""
     bvh = load_bvh(path)
     rotations, offsets = bvh.rotations, bvh.offsets
     skeleton = Skeleton(path.stem, bvh.names, bvh.parents, offsets)
-    if sorted(bvh.names) == sorted(SMPL24.joint_names):
-        order = [bvh.names.index(name) for name in SMPL24.joint_names]
+    names = next((names for names in (SMPL24.joint_names, mixamo_names(), mixamo_names(""))
+                  if sorted(bvh.names) == sorted(names)), None)  # the library's BVH, or with --rig mixamo
+    if names is not None:
+        order = [bvh.names.index(name) for name in names]
         if all(bvh.parents[order[j]] == (order[p] if p >= 0 else -1) for j, p in enumerate(SMPL24.parents)):
             rotations, offsets, skeleton = rotations[:, order], offsets[order], SMPL24
     joints = np.asarray(forward_kinematics(axis_angle_to_matrix(rotations), bvh.translation, offsets,

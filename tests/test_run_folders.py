@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from jaxmotion import experiment
-from jaxmotion.files import LOCK_NAME, folder_lock, read_json, write_atomic
+from jaxmotion.files import LOCK_NAME, folder_lock, read_json, replaced_on_success, write_atomic
 from jaxmotion.train import Checkpointer, LoopConfig, train
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -117,6 +117,17 @@ def test_write_atomic_leaves_the_old_content_when_the_write_fails(tmp_path, monk
     with pytest.raises(OSError, match="No space"):
         write_atomic(path, "new")
     assert path.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["metrics.json"]
+
+
+def test_atomic_files_get_the_permissions_of_any_new_file(tmp_path):
+    """mkstemp makes its files owner-only: results shared with a group would not be readable."""
+    (tmp_path / "plain.txt").write_text("x")
+    write_atomic(tmp_path / "atomic.txt", "x")
+    with replaced_on_success(tmp_path / "video.mp4", suffix=".mp4") as temporary:
+        assert temporary.suffix == ".mp4" and temporary.parent == tmp_path
+        temporary.write_bytes(b"x")
+    modes = {p.name: p.stat().st_mode & 0o777 for p in tmp_path.iterdir()}
+    assert modes["atomic.txt"] == modes["video.mp4"] == modes["plain.txt"], modes
 
 
 def test_an_empty_metrics_file_does_not_mark_the_seed_finished(tmp_path, capsys):

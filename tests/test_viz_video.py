@@ -14,7 +14,7 @@ from PIL import Image
 
 from jaxmotion import render
 from jaxmotion.data import Motion, pack, synthetic
-from jaxmotion.data.export import export_motions
+from jaxmotion.data.export import ExportOptions, export_motions
 from jaxmotion.data.motion import to_dataset
 from jaxmotion.data.segments import Segments
 from jaxmotion.geometry import axis_angle_to_matrix, forward_kinematics, load_body_model
@@ -272,6 +272,11 @@ def test_a_bvh_of_smpl_joints_comes_back_on_smpl24_and_takes_a_mesh(exported, wa
     out = render.main([str(exported / "walk.bvh"), "--out", str(tmp_path / "mesh.gif"), "--body-model",
                        str(body_file), "--camera", "follow"])
     assert out.stat().st_size > 1000
+    export_motions(tmp_path, {k: getattr(walk, k)[None, :12] for k in ("joints", "rotations", "translation")},
+                   SMPL24, 30.0, formats=("bvh",), names=["mixamo"], options=ExportOptions(rig="mixamo"))
+    mixamo, skeleton, _ = render.load_motion(tmp_path / "mixamo.bvh")  # Mixamo's names: SMPL-24 again
+    assert skeleton is SMPL24
+    np.testing.assert_allclose(mixamo.joints, walk.joints[:12], atol=1e-4)
 
 
 def test_the_command_refuses_bad_input_in_one_line(exported, tmp_path, capsys, monkeypatch):

@@ -17,8 +17,6 @@ Drawing is :class:`~jaxmotion.viz.scene.FrameRenderer`'s (cameras, captions, leg
 
 from __future__ import annotations
 
-import os
-import tempfile
 import warnings
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
@@ -26,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from jaxmotion.data.motion import Motion, MotionDataset, person_axis
-from jaxmotion.files import atomic_file
+from jaxmotion.files import atomic_file, replaced_on_success
 from jaxmotion.geometry.body import BodyModel, load_body_model
 from jaxmotion.geometry.skeletons import Skeleton
 from jaxmotion.progress import phase
@@ -83,10 +81,8 @@ def _even(frame: np.ndarray) -> np.ndarray:
 def _write_mp4(path: Path, frames: Iterator[np.ndarray], fps: float) -> None:
     ffmpeg = _imageio_ffmpeg()
     first = _even(next(frames))
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".mp4")
-    os.close(fd)
-    try:
-        writer = ffmpeg.write_frames(temporary, (first.shape[1], first.shape[0]), fps=fps, codec="libx264",
+    with replaced_on_success(path, suffix=".mp4") as temporary:  # ffmpeg picks the container by the suffix
+        writer = ffmpeg.write_frames(str(temporary), (first.shape[1], first.shape[0]), fps=fps, codec="libx264",
                                      pix_fmt_in="rgb24", pix_fmt_out="yuv420p", macro_block_size=1,
                                      ffmpeg_log_level="error", output_params=["-movflags", "+faststart"])
         with warnings.catch_warnings():
@@ -99,10 +95,6 @@ def _write_mp4(path: Path, frames: Iterator[np.ndarray], fps: float) -> None:
                 writer.send(np.ascontiguousarray(_even(frame)))
         finally:
             writer.close()
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def _write_gif(path: Path, frames: Iterator[np.ndarray], fps: float) -> None:
