@@ -401,6 +401,10 @@ def test_amass_options_refuse_bad_values_naming_the_field(tmp_path):
     model = load_body_model(smplh_file(tmp_path / "smplh.npz", np.zeros((22, 3)), betas_shift=0.0))
     with pytest.raises(ValueError, match=re.escape("betas: the body model has 16 shape coefficients, got 17")):
         export.AmassOptions.for_body(model, np.zeros(17))
+    np.savez(tmp_path / "long.npz", poses=np.zeros((2, 156)), trans=np.zeros((2, 3)), mocap_framerate=30.0,
+             betas=np.r_[np.zeros(16), 1.0])  # a 17th coefficient the model cannot apply: refused, not dropped
+    with pytest.raises(ValueError, match=re.escape("betas: 17 shape coefficients, non-zero past the body model's 16")):
+        export.load_amass_npz(tmp_path / "long.npz", body=model)
 
 
 def test_load_amass_npz_reads_smplh_poses_of_real_amass_files(tmp_path):
