@@ -72,7 +72,7 @@ def load_motion(path: str | Path, *, body: BodyModel | None = None) -> tuple[Mot
     if not path.is_file():
         raise FileNotFoundError(f"SOURCE: {path} does not exist")
     if suffix == ".npz":
-        motion, fps = load_amass_npz(path, body=body) if body is not None else load_amass_npz(path)
+        motion, fps = load_amass_npz(path, body=body)
         return motion, SMPL24, fps
     if suffix == ".bvh":
         return _bvh_motion(path)

@@ -20,6 +20,7 @@ from jaxmotion.geometry.body import (
     body_forward_rotmats,
     load_body_model,
     rest_joints,
+    root_translation,
     save_body_model,
     skinning_transforms,
 )
@@ -190,13 +191,16 @@ def test_shape_blend_shapes_are_linear_and_short_betas_are_zero_padded(model, fi
     np.testing.assert_allclose(short, padded, atol=1e-6)
 
 
-def test_rest_joints_are_the_regressed_shaped_template_where_the_unposed_body_puts_its_joints(model, fields):
+def test_rest_joints_are_the_regressed_shaped_template_and_root_translation_puts_the_root_where_asked(model, fields):
     betas = np.array([1.5, -0.7, 2.0], np.float32)
     expected = fields["J_regressor"] @ (fields["v_template"] + fields["shapedirs"][..., :3] @ betas)
     np.testing.assert_allclose(rest_joints(model, betas), expected, atol=1e-5)
     _, joints = _forward(model, _zero_pose(), betas, jnp.zeros(3))
     np.testing.assert_allclose(rest_joints(model, betas), joints, atol=1e-5)
     np.testing.assert_allclose(rest_joints(model), fields["J_regressor"] @ fields["v_template"], atol=1e-5)
+    root = np.array([0.3, 1.1, -2.0], np.float32)  # the library's translation: where the root joint is
+    _, posed = _forward(model, _zero_pose(), betas, root_translation(model, root, betas))
+    np.testing.assert_allclose(posed[0], root, atol=1e-5)
 
 
 def test_leading_axes_broadcast_and_match_per_item_calls(model):

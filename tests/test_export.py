@@ -541,7 +541,7 @@ def test_export_motions_rejects_npz_off_the_smpl_tree_and_unknown_formats(tmp_pa
 
 
 def test_export_with_mixamo_names_and_clean_feet_writes_one_cleaned_motion_in_every_format(tmp_path):
-    data = generate("synth-humanact12", "train", seed=0, count=4, progress=False)
+    data = generate("synth-humanact12", "train", seed=0, count=1, progress=False)  # a walk: its stance feet slide
     options = export.ExportOptions(rig="mixamo", clean_feet=True)
     export.export_motions(tmp_path, data, formats=("bvh", "npy"), options=options)
     ankles = [SMPL24.index("left_ankle"), SMPL24.index("right_ankle")]

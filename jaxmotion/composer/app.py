@@ -41,7 +41,7 @@ from jaxmotion.compose import canonical_tag, compose, unseen_pairs
 from jaxmotion.data.export import AmassOptions, ExportOptions, export_motions
 from jaxmotion.data.mag_tags import root_tag_mask
 from jaxmotion.data.segments import Program, ProgramAction
-from jaxmotion.geometry.body import BodyModel, rest_joints, skinning_transforms
+from jaxmotion.geometry.body import BodyModel, root_translation, skinning_transforms
 from jaxmotion.geometry.rotations import axis_angle_to_matrix
 from jaxmotion.geometry.skeletons import SMPL24
 from jaxmotion.pipelines.marionette import ContextGenerator
@@ -263,9 +263,9 @@ class Composer:
     def _skin(self, motion: dict) -> np.ndarray:
         """Per frame and joint, the rotation (row by row) and shift that skin the body into the motion ``[T, 24,
         12]``: its pelvis on the motion's root (the body's translation is the root minus the body's rest root)."""
-        rest_root = np.asarray(rest_joints(self._body)[0])
         rotations, shifts = skinning_transforms(self._body, axis_angle_to_matrix(motion["rotations"]),
-                                                translation=np.asarray(motion["translation"]) - rest_root, check=False)
+                                                translation=root_translation(self._body, motion["translation"]),
+                                                check=False)
         frames = len(motion["rotations"])
         return np.concatenate([np.asarray(rotations).reshape(frames, 24, 9), np.asarray(shifts)], axis=-1)
 

@@ -6,7 +6,8 @@ Euler angles follow BVH (order "ZXY": R = R_z @ R_x @ R_y).
 """
 
 from jaxmotion.geometry.body import (
-    BodyModel, body_forward, body_forward_rotmats, load_body_model, rest_joints, save_body_model, skinning_transforms,
+    BodyModel, body_forward, body_forward_rotmats, load_body_model, rest_joints, root_translation, save_body_model,
+    skinning_transforms,
 )
 from jaxmotion.geometry.ik import two_bone_ik, two_bone_pose
 from jaxmotion.geometry.kinematics import (
@@ -55,7 +56,8 @@ from jaxmotion.geometry.skeletons import (
 )
 
 __all__ = [
-    "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "save_body_model",
+    "BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "root_translation",
+    "save_body_model",
     "skinning_transforms",
     "two_bone_ik", "two_bone_pose",
     "apply_transform", "bone_lengths", "canonicalize", "canonicalize_transform", "forward_kinematics",

@@ -43,8 +43,8 @@ from jaxmotion.geometry.kinematics import forward_kinematics_transforms
 from jaxmotion.geometry.rotations import axis_angle_to_matrix, check_rotations
 from jaxmotion.geometry.skeletons import topological_order
 
-__all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "save_body_model",
-           "skinning_transforms"]
+__all__ = ["BodyModel", "body_forward", "body_forward_rotmats", "load_body_model", "rest_joints", "root_translation",
+           "save_body_model", "skinning_transforms"]
 
 # Default matmul precision on GPU/TPU (TF32/bf16) would put millimetre errors on the vertices.
 _einsum = functools.partial(jnp.einsum, precision=jax.lax.Precision.HIGHEST)
@@ -273,6 +273,13 @@ def rest_joints(model: BodyModel, betas: jax.Array | None = None) -> jax.Array:
     ``J_0(betas) + translation``, which is how AMASS's ``trans`` is meant (:mod:`jaxmotion.data.export`)."""
     betas = _betas(model, betas, model.v_template.dtype)
     return _einsum("jv,...vc->...jc", model.joint_regressor, _shaped(model, betas))
+
+
+def root_translation(model: BodyModel, root: jax.Array, betas: jax.Array | None = None) -> jax.Array:
+    """``[..., 3]`` the body's ``translation`` that puts its root joint at ``root [..., 3]`` (the library's
+    ``translation``, a root position): SMPL places the root at ``J_0(betas) + translation``
+    (:func:`rest_joints`)."""
+    return jnp.asarray(root) - rest_joints(model, betas)[..., 0, :]
 
 
 def _posed(model: BodyModel, rotmats: jax.Array, betas: jax.Array | None, translation: jax.Array | None,

@@ -52,7 +52,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from jaxmotion.data.segments import Segments
-from jaxmotion.geometry.body import BodyModel, body_forward, rest_joints
+from jaxmotion.geometry.body import BodyModel, body_forward, root_translation
 from jaxmotion.geometry.skeletons import Skeleton
 
 #: Metres a root must go (horizontally, from where it starts) for ``camera="auto"`` to choose ``world``.
@@ -247,9 +247,8 @@ def posed_body(body: BodyModel, rotations: np.ndarray, translation: np.ndarray) 
     """The body posed by the library's motion arrays: ``rotations [..., J, 3]`` local axis-angle (joint 0 global)
     and ``translation [..., 3]``, the root position -> ``(vertices [..., V, 3], joints [..., J, 3])``. SMPL puts the
     root at its rest position ``J_0`` plus its translation, so the body gets ``translation - J_0``."""
-    offset = np.asarray(rest_joints(body)[0])
     vertices, joints = body_forward(body, np.asarray(rotations, np.float32),
-                                    translation=np.asarray(translation, np.float32) - offset)
+                                    translation=root_translation(body, np.asarray(translation, np.float32)))
     return np.asarray(vertices), np.asarray(joints)
 
 
