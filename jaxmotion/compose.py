@@ -11,8 +11,8 @@ cubic, two a straight line). ``--out``: ``.bvh``, ``.npz`` (AMASS layout) or ``.
 (tags, first frame and end frame, whether Shadow Start or Action Revision acted) is written beside it as
 ``<name>.segments.json``, and a picture, ``<name>.png``: poses along the motion above its tag timeline (with
 ``--gif`` also ``<name>.gif`` and with ``--video`` ``<name>.mp4``: the body in 3D with the timeline's cursor; seconds
-of rendering per hundred frames, so off by default; the pictures show the motion as generated, before
-``--clean-feet``). An action
+of rendering per hundred frames, so off by default; with ``--clean-feet`` every file and picture shows the cleaned
+motion). An action
 whose tag never followed the previous one's in training gets a warning (the paper's failure case). ``--shadow``
 chooses Table 5's system: ``never`` (the pure pipeline), ``always``, or ``revision`` (Action Revision, with the
 classifier ``--reviser``, trained once and cached); where Shadow Start acts, ``--smoothing`` frames blend the action
@@ -34,7 +34,7 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from jaxmotion.data.export import export_arguments, export_motions, export_options
+from jaxmotion.data.export import export_arguments, export_motions, export_options, with_clean_feet
 from jaxmotion.data.motion import MotionDataset, to_dataset
 from jaxmotion.data.segments import Program, ProgramAction, Segments
 from jaxmotion.evaluation.recognizers import trained_recognizer
@@ -195,6 +195,11 @@ def main(argv: Sequence[str] | None = None) -> Path:
                          mean=args.mean)
     except (ValueError, FileNotFoundError, ImportError) as error:
         parser.exit(2, f"{parser.prog}: error: {error}\n")
+    if export.clean_feet:  # cleaned once, before the file and the pictures, so that they show one motion
+        motion["rotations"], motion["joints"] = with_clean_feet(motion["rotations"], motion["translation"],
+                                                                motion["joints"], generator.facts.skeleton.parents,
+                                                                generator.fps)
+        export = dataclasses.replace(export, clean_feet=False)
     batch = {k: motion[k][None] for k in ("rotations", "translation", "joints")}
     written = export_motions(out.parent, batch, generator.facts.skeleton, generator.fps, formats=(FORMATS[out.suffix],),
                              names=[out.stem], options=export)

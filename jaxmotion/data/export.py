@@ -86,6 +86,7 @@ from jaxmotion.progress import phase
 __all__ = [
     "FORMATS", "RIGS", "AmassOptions", "BvhMotion", "ExportOptions", "export_arguments", "export_motions",
     "export_options", "load_amass_npz", "load_bvh", "rest_offsets", "save_amass_npz", "save_bvh", "save_joints_npy",
+    "with_clean_feet",
 ]
 
 #: File formats of :func:`export_motions`, by file extension.
@@ -740,12 +741,14 @@ def _batch_clips(motions: Mapping, num_joints: int) -> list[_Clip]:
                   None if translation is None else translation[n, :t]) for n, t in enumerate(lengths)]
 
 
-def _feet_cleaned(clip: _Clip, parents: tuple[int, ...], fps: float) -> _Clip:
-    """The clip with its feet held while they bear weight (:func:`~jaxmotion.data.retarget.clean_feet`) and its
-    joints posed again from the new rotations on its own offsets."""
-    offsets = rest_offsets(clip.rotations, clip.joints, parents)
-    rotations = clean_feet(clip.rotations, clip.translation, offsets, parents, fps=fps).rotations
-    return _Clip(_joints(rotations, clip.translation, offsets, parents), rotations, clip.translation)
+def with_clean_feet(rotations, translation, joints, parents: tuple[int, ...], fps: float
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """One motion (``rotations [T, J, 3]``, ``translation [T, 3]``, ``joints [T, J, 3]``) with its feet held while
+    they bear weight (:func:`~jaxmotion.data.retarget.clean_feet`): ``(rotations, joints)``, the joints posed again
+    from the new rotations on the motion's own offsets (:func:`rest_offsets`); the translation does not change."""
+    offsets = rest_offsets(rotations, joints, parents)
+    cleaned = clean_feet(rotations, translation, offsets, parents, fps=fps).rotations
+    return cleaned, _joints(cleaned, translation, offsets, parents)
 
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9._#+-]")
@@ -842,7 +845,9 @@ def export_motions(folder: str | Path, motions: MotionDataset | Mapping, skeleto
     with phase(f"[export] {folder.name}", len(clips), unit="motion") as bar:
         for stem, clip in zip(stems, clips):
             if options.clean_feet:
-                clip = _feet_cleaned(clip, skeleton.parents, fps)
+                rotations, joints = with_clean_feet(clip.rotations, clip.translation, clip.joints, skeleton.parents,
+                                                    fps)
+                clip = _Clip(joints, rotations, clip.translation)
             for fmt in formats:
                 path = folder / f"{stem}.{fmt}"
                 if fmt == "npy":
